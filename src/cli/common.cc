@@ -1,0 +1,58 @@
+#include "cli/common.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
+#include "gazedirector/io/media.h"
+#include "gazedirector/util/error.h"
+
+namespace gazedirector::cli {
+
+void AddCommonOptions(CLI::App& command, CommonOptions& options) {
+  command.add_option("--assets", options.assets,
+                     "Model asset folder (default: $GAZEDIRECTOR_ASSETS, else ../shared/assets beside the repository)");
+  command.add_flag("-q,--quiet", options.quiet, "Print only warnings and errors");
+  command.add_flag("-v,--verbose", options.verbose, "Print debugging detail");
+}
+
+void ApplyLogLevel(const CommonOptions& options) {
+  spdlog::set_level(options.quiet ? spdlog::level::warn : options.verbose ? spdlog::level::debug : spdlog::level::info);
+}
+
+Camera CameraOptions::Resolve(int width, int height) const {
+  Camera camera = Camera::Default(width, height);
+  if (fx) camera.fx = *fx, camera.fy = fy.value_or(*fx);
+  if (fy) camera.fy = *fy, camera.fx = fx.value_or(*fy);
+  if (cx) camera.cx = *cx;
+  if (cy) camera.cy = *cy;
+  if (!(camera.fx > 0 && camera.fy > 0)) Fail(ExitCode::kUsage, "focal lengths must be positive");
+  return camera;
+}
+
+void AddCameraOptions(CLI::App& command, CameraOptions& options) {
+  const char* group = "Camera (default: fx = fy = max(width, height), principal point at the centre)";
+  command.add_option("--fx", options.fx, "Focal length in pixels along x")->group(group);
+  command.add_option("--fy", options.fy, "Focal length in pixels along y (default: fx)")->group(group);
+  command.add_option("--cx", options.cx, "Principal point x in pixels")->group(group);
+  command.add_option("--cy", options.cy, "Principal point y in pixels")->group(group);
+}
+
+void RequireExtension(const std::filesystem::path& path, const std::string& option, const std::vector<std::string>& allowed) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (std::find(allowed.begin(), allowed.end(), extension) == allowed.end()) {
+    Fail(ExitCode::kUsage, "{} {}: expected a file ending in {}", option, path.string(), fmt::join(allowed, ", "));
+  }
+}
+
+bool IsImagePath(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return extension == ".png" || extension == ".jpg" || extension == ".jpeg" || extension == ".bmp" ||
+         extension == ".tif" || extension == ".tiff" || extension == ".webp";
+}
+
+}  // namespace gazedirector::cli

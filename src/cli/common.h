@@ -1,0 +1,47 @@
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "gazedirector/geometry/camera.h"
+
+namespace gazedirector::cli {
+
+// Options every subcommand takes.
+struct CommonOptions {
+  std::string assets;
+  bool quiet = false;
+  bool verbose = false;
+};
+void AddCommonOptions(CLI::App& command, CommonOptions& options);
+// Applies --quiet / --verbose to the logger.
+void ApplyLogLevel(const CommonOptions& options);
+
+// Camera intrinsics: given in full, in part, or by default from the image size.
+struct CameraOptions {
+  std::optional<double> fx, fy, cx, cy;
+  Camera Resolve(int width, int height) const;
+};
+void AddCameraOptions(CLI::App& command, CameraOptions& options);
+
+// A subcommand: its parser and what runs when it was chosen; run returns the
+// process exit code.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+Command RegisterLandmarksCommand(CLI::App& root);
+Command RegisterBenchCommand(CLI::App& root);
+Command RegisterEvalCommand(CLI::App& root);
+
+// Fails with a usage error unless `path`'s extension is one of `allowed`.
+void RequireExtension(const std::filesystem::path& path, const std::string& option,
+                      const std::vector<std::string>& allowed);
+bool IsImagePath(const std::filesystem::path& path);
+
+}  // namespace gazedirector::cli

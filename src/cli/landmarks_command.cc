@@ -1,0 +1,163 @@
+// gazedirector landmarks: faces, 68 landmarks and head pose in an image or video.
+#include <memory>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "cli/common.h"
+#include "gazedirector/face/face_io.h"
+#include "gazedirector/face/face_tracker.h"
+#include "gazedirector/io/assets.h"
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/json_format.h"
+#include "gazedirector/io/media.h"
+#include "gazedirector/io/text_writer.h"
+#include "gazedirector/io/video_reader.h"
+#include "gazedirector/io/video_writer.h"
+#include "gazedirector/util/error.h"
+#include "gazedirector/util/interrupt.h"
+#include "gazedirector/util/progress.h"
+#include "gazedirector/viz/draw_face.h"
+
+namespace gazedirector::cli {
+namespace {
+
+struct LandmarksOptions {
+  CommonOptions common;
+  CameraOptions camera;
+  std::string input;
+  std::string output;
+  std::string csv;
+  std::string overlay;
+  bool largest = false;
+  bool no_smoothing = false;
+};
+
+int RunOnImage(const LandmarksOptions& options, FaceTracker& tracker) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  const cv::Mat image = ReadImage(options.input);
+  const Camera camera = options.camera.Resolve(image.cols, image.rows);
+  const std::vector<Face> faces = tracker.DetectFaces(image, camera);
+
+  nlohmann::json document = {{"input", options.input}, {"width", image.cols}, {"height", image.rows},
+                             {"camera", ToJson(camera)}, {"faces", nlohmann::json::array()}};
+  for (const Face& face : faces) document["faces"].push_back(ToJson(face));
+  std::optional<CsvWriter> csv;
+  if (!options.csv.empty()) {
+    csv.emplace(options.csv, FaceCsvColumns(), inputs);
+    if (faces.empty()) csv->AddRow(FaceCsvRow(0, 0, nullptr));
+    for (const Face& face : faces) csv->AddRow(FaceCsvRow(0, 0, &face));
+  }
+  cv::Mat overlay;
+  if (!options.overlay.empty()) {
+    overlay = image.clone();
+    for (const Face& face : faces) DrawFace(overlay, face, camera);
+  }
+  WriteTextFile(options.output, PrettyJson(document) + "\n", inputs);
+  if (csv) csv->Finish();
+  if (!overlay.empty()) WriteImage(options.overlay, overlay, inputs);
+
+  if (faces.empty()) {
+    spdlog::warn("no face found in {}", options.input);
+    return static_cast<int>(ExitCode::kNoFace);
+  }
+  spdlog::info("{}: {} face{} -> {}", options.input, faces.size(), faces.size() == 1 ? "" : "s", options.output);
+  return 0;
+}
+
+int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  VideoReader reader(options.input);
+  const VideoInfo& info = reader.info();
+  const Camera camera = options.camera.Resolve(info.width, info.height);
+
+  TextWriter json(options.output, inputs);
+  std::optional<CsvWriter> csv;
+  if (!options.csv.empty()) csv.emplace(options.csv, FaceCsvColumns(), inputs);
+  std::optional<VideoWriter> overlay;
+  if (!options.overlay.empty()) {
+    overlay.emplace(options.overlay, VideoWriterOptions{info.width, info.height, info.frame_rate, options.input}, inputs);
+  }
+
+  Progress progress("landmarks", info.frame_count, "frames", options.common.quiet);
+  cv::Mat frame;
+  long frames_with_faces = 0;
+  while (reader.Read(frame)) {
+    ThrowIfInterrupted();
+    const double timestamp = reader.timestamp_s();
+    const std::vector<Face> faces = tracker.TrackFrame(frame, timestamp, camera);
+    frames_with_faces += faces.empty() ? 0 : 1;
+
+    nlohmann::json line = {{"frame", reader.frame_index()}, {"timestamp", timestamp}, {"faces", nlohmann::json::array()}};
+    if (reader.frame_index() == 0) line["camera"] = ToJson(camera);
+    for (const Face& face : faces) line["faces"].push_back(ToJson(face));
+    json.stream() << line.dump() << '\n';
+    if (csv) {
+      if (faces.empty()) csv->AddRow(FaceCsvRow(reader.frame_index(), timestamp, nullptr));
+      for (const Face& face : faces) csv->AddRow(FaceCsvRow(reader.frame_index(), timestamp, &face));
+    }
+    if (overlay) {
+      for (const Face& face : faces) DrawFace(frame, face, camera);
+      overlay->Write(frame);
+    }
+    progress.Update(reader.frame_index() + 1);
+  }
+  progress.Finish();
+  if (reader.EndedEarly()) {
+    spdlog::warn("{}: the video ended after {} of {} frames (truncated?)", options.input, reader.frame_index() + 1,
+                 info.frame_count);
+  }
+  json.Finish();
+  if (csv) csv->Finish();
+  if (overlay) overlay->Finish();
+
+  const long frames = reader.frame_index() + 1;
+  if (frames_with_faces == 0) {
+    spdlog::warn("no face found in any of the {} frames of {}", frames, options.input);
+    return static_cast<int>(ExitCode::kNoFace);
+  }
+  spdlog::info("{}: faces in {} of {} frames -> {}", options.input, frames_with_faces, frames, options.output);
+  return 0;
+}
+
+int RunLandmarks(const LandmarksOptions& options) {
+  ApplyLogLevel(options.common);
+  const MediaKind kind = DetectMediaKind(options.input);
+  RequireExtension(options.output, "-o", {".json", ".jsonl"});
+  if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
+  if (!options.overlay.empty()) {
+    if (kind == MediaKind::kImage && !IsImagePath(options.overlay)) {
+      Fail(ExitCode::kUsage, "--overlay {}: an image's overlay is an image (.png or .jpg)", options.overlay);
+    }
+    if (kind == MediaKind::kVideo && !HasVideoExtension(options.overlay)) {
+      Fail(ExitCode::kUsage, "--overlay {}: a video's overlay is a video (.mp4, .mkv, .gif)", options.overlay);
+    }
+  }
+  const Assets assets = Assets::Resolve(options.common.assets);
+  FaceTrackerOptions tracker_options;
+  tracker_options.largest_only = options.largest;
+  tracker_options.smooth = !options.no_smoothing;
+  FaceTracker tracker(std::make_shared<LandmarkDetector>(assets.landmark_model()), LoadMeanFace(assets.mean_face()),
+                      tracker_options);
+  return kind == MediaKind::kImage ? RunOnImage(options, tracker) : RunOnVideo(options, tracker);
+}
+
+}  // namespace
+
+Command RegisterLandmarksCommand(CLI::App& root) {
+  auto options = std::make_shared<LandmarksOptions>();
+  CLI::App* app = root.add_subcommand("landmarks", "Find faces, their 68 landmarks and head pose in an image or video");
+  app->add_option("input", options->input, "Image or video file")->required();
+  app->add_option("-o,--output", options->output,
+                  "JSON output: one document for an image, one line per frame for a video")->required();
+  app->add_option("--csv", options->csv, "Also write a CSV with OpenFace's column names");
+  app->add_option("--overlay", options->overlay, "Draw the results over the input (.png/.jpg for images, .mp4 for videos)");
+  app->add_flag("--largest", options->largest, "Report only the largest face");
+  app->add_flag("--no-smoothing", options->no_smoothing, "Report raw video landmarks, without temporal smoothing");
+  AddCameraOptions(*app, options->camera);
+  AddCommonOptions(*app, options->common);
+  return {app, [options] { return RunLandmarks(*options); }};
+}
+
+}  // namespace gazedirector::cli

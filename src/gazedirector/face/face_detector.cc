@@ -1,0 +1,79 @@
+#include "gazedirector/face/face_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <dlib/image_processing/frontal_face_detector.h>
+#include <dlib/opencv/cv_image.h>
+#include <opencv2/imgproc.hpp>
+
+namespace gazedirector {
+namespace {
+
+// The detector's sliding window is 80x80 px; a face box this wide is searched
+// at about the window's own scale when verifying a track.
+constexpr double kVerifyBoxPixels = 90.0;
+constexpr double kVerifyContext = 0.35;  // margin around the box, as a fraction of its size
+
+cv::Rect2d FromDlib(const dlib::rectangle& r, double scale, const cv::Point2d& offset) {
+  return {r.left() / scale + offset.x, r.top() / scale + offset.y, (r.width()) / scale, (r.height()) / scale};
+}
+
+}  // namespace
+
+double ConfidenceFromScore(double score) { return 1.0 / (1.0 + std::exp(-3.0 * score)); }
+
+double IntersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b) {
+  const double intersection = (a & b).area();
+  const double united = a.area() + b.area() - intersection;
+  return united > 0 ? intersection / united : 0.0;
+}
+
+struct FaceDetector::Impl {
+  dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  cv::Mat resized;
+
+  std::vector<Detection> Run(const cv::Mat& gray, double scale, double threshold, const cv::Point2d& offset) {
+    const cv::Mat* input = &gray;
+    if (std::abs(scale - 1.0) > 1e-6) {
+      cv::resize(gray, resized, cv::Size(), scale, scale, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+      input = &resized;
+    }
+    dlib::cv_image<unsigned char> image(*input);
+    std::vector<std::pair<double, dlib::rectangle>> found;
+    detector(image, found, threshold);
+    std::vector<Detection> detections;
+    for (const auto& [score, rect] : found) detections.push_back({FromDlib(rect, scale, offset), score});
+    std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
+    return detections;
+  }
+};
+
+FaceDetector::FaceDetector() : impl_(std::make_unique<Impl>()) {}
+FaceDetector::~FaceDetector() = default;
+FaceDetector::FaceDetector(FaceDetector&&) noexcept = default;
+FaceDetector& FaceDetector::operator=(FaceDetector&&) noexcept = default;
+
+std::vector<Detection> FaceDetector::Detect(const cv::Mat& gray, double scale, double threshold) {
+  CV_Assert(gray.type() == CV_8UC1);
+  return impl_->Run(gray, scale, threshold, {0, 0});
+}
+
+Detection FaceDetector::Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold) {
+  CV_Assert(gray.type() == CV_8UC1);
+  const double margin = kVerifyContext * std::max(box.width, box.height);
+  cv::Rect window(cv::Point(static_cast<int>(std::floor(box.x - margin)), static_cast<int>(std::floor(box.y - margin))),
+                  cv::Point(static_cast<int>(std::ceil(box.br().x + margin)), static_cast<int>(std::ceil(box.br().y + margin))));
+  window &= cv::Rect(0, 0, gray.cols, gray.rows);
+  Detection best{box, -std::numeric_limits<double>::infinity()};
+  if (window.width < 16 || window.height < 16) return best;
+  const double scale = std::clamp(kVerifyBoxPixels / std::max(box.width, 1.0), 0.05, 4.0);
+  const cv::Mat crop = gray(window);
+  for (const Detection& d : impl_->Run(crop, scale, threshold, {double(window.x), double(window.y)})) {
+    if (IntersectionOverUnion(d.box, box) >= 0.3 && d.score > best.score) best = d;
+  }
+  return best;
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace gazedirector {
+
+struct Detection {
+  cv::Rect2d box;  // in the coordinates of the image given to Detect
+  double score = 0;  // the HOG detector's margin; faces score >= 0
+};
+
+// The detector's score mapped to [0, 1]: 0.5 at the detection threshold.
+double ConfidenceFromScore(double score);
+
+// dlib's HOG + linear SVM frontal face detector. Not thread-safe: use one per
+// thread.
+class FaceDetector {
+ public:
+  FaceDetector();
+  ~FaceDetector();
+  FaceDetector(FaceDetector&&) noexcept;
+  FaceDetector& operator=(FaceDetector&&) noexcept;
+
+  // Faces in an 8-bit grayscale image, searched after resizing it by `scale`
+  // (upsampling finds faces smaller than the detector's 80 px window).
+  // Detections scoring below `threshold` are dropped; best first.
+  std::vector<Detection> Detect(const cv::Mat& gray, double scale = 1.0, double threshold = 0.0);
+
+  // The best score of a face overlapping `box` (IoU >= 0.3), searched in a
+  // small window around it: a cheap check that a tracked face is still there.
+  // Returns nullopt-like -infinity when nothing scores above `threshold`.
+  Detection Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold = -1.0);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+double IntersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b);
+
+}  // namespace gazedirector

@@ -1,0 +1,203 @@
+#include "gazedirector/face/face_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/face/head_pose.h"
+
+namespace gazedirector {
+namespace {
+
+Eigen::Vector2d Centroid(const Landmarks68& landmarks) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const auto& p : landmarks) sum += p;
+  return sum / kNumLandmarks;
+}
+
+double Spread(const Landmarks68& landmarks, const Eigen::Vector2d& centroid) {
+  double squared = 0;
+  for (const auto& p : landmarks) squared += (p - centroid).squaredNorm();
+  return std::sqrt(squared / kNumLandmarks);
+}
+
+cv::Mat ToGray(const cv::Mat& bgr, cv::Mat& gray) {
+  if (bgr.channels() == 1) return bgr;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+}  // namespace
+
+double StillDetectionScale(int width, int height) {
+  return std::clamp(2000.0 / std::max(width, height), 0.25, 2.0);
+}
+
+double VideoDetectionScale(int width, int height) {
+  return std::clamp(800.0 / std::max(width, height), 0.25, 1.0);
+}
+
+FaceTracker::FaceTracker(std::shared_ptr<const LandmarkDetector> landmark_detector, MeanFace mean_face,
+                         FaceTrackerOptions options)
+    : landmark_detector_(std::move(landmark_detector)), mean_face_(mean_face), options_(options) {}
+
+void FaceTracker::Reset() {
+  tracks_.clear();
+  frames_since_search_ = 0;
+}
+
+FaceTracker::BoxCalibration FaceTracker::Calibrate(const cv::Rect2d& box, const Landmarks68& landmarks) {
+  const Eigen::Vector2d centroid = Centroid(landmarks);
+  const double spread = std::max(Spread(landmarks, centroid), 1e-6);
+  const Eigen::Vector2d box_centre(box.x + 0.5 * box.width, box.y + 0.5 * box.height);
+  return {(box_centre - centroid) / spread, box.width / spread};
+}
+
+cv::Rect2d FaceTracker::BoxFromLandmarks(const Landmarks68& landmarks, const BoxCalibration& calibration) {
+  const Eigen::Vector2d centroid = Centroid(landmarks);
+  const double spread = Spread(landmarks, centroid);
+  const Eigen::Vector2d centre = centroid + spread * calibration.offset;
+  const double side = spread * calibration.size;
+  return {centre.x() - 0.5 * side, centre.y() - 0.5 * side, side, side};
+}
+
+std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& camera) {
+  const cv::Mat gray = ToGray(bgr, gray_);
+  std::vector<Detection> detections = detector_.Detect(gray, StillDetectionScale(gray.cols, gray.rows));
+  if (options_.largest_only && detections.size() > 1) {
+    const auto largest = std::max_element(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) {
+      return a.box.area() < b.box.area();
+    });
+    detections = {*largest};
+  }
+  std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) { return a.box.x < b.box.x; });
+  std::vector<Face> faces;
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    Face face;
+    face.id = static_cast<int>(i);
+    face.box = detections[i].box;
+    face.confidence = ConfidenceFromScore(detections[i].score);
+    face.landmarks = landmark_detector_->Detect(gray, face.box);
+    face.pose = EstimateHeadPose(face.landmarks, mean_face_, camera);
+    faces.push_back(face);
+  }
+  return faces;
+}
+
+FaceTracker::Track FaceTracker::StartTrack(const Detection& detection) {
+  Track track;
+  track.id = next_id_++;
+  track.box = detection.box;
+  track.raw = landmark_detector_->Detect(gray_, detection.box);
+  track.calibration = Calibrate(detection.box, track.raw);
+  track.confidence = ConfidenceFromScore(detection.score);
+  track.filters.assign(2 * kNumLandmarks,
+                       OneEuroFilter(options_.smoothing_min_cutoff_hz, options_.smoothing_beta));
+  return track;
+}
+
+std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s, const Camera& camera) {
+  ToGray(bgr, gray_);
+  if (bgr.channels() == 1) gray_ = bgr;
+
+  // Follow the existing tracks from their last landmarks.
+  std::vector<bool> refreshed(tracks_.size(), false);
+  const bool search = tracks_.empty() || ++frames_since_search_ >= options_.search_interval;
+  std::vector<Detection> detections;
+  if (search) {
+    frames_since_search_ = 0;
+    detections = detector_.Detect(gray_, VideoDetectionScale(gray_.cols, gray_.rows));
+  }
+  std::vector<bool> used(detections.size(), false);
+  for (std::size_t t = 0; t < tracks_.size(); ++t) {
+    Track& track = tracks_[t];
+    const cv::Rect2d predicted = BoxFromLandmarks(track.raw, track.calibration);
+    int best = -1;
+    double best_iou = 0.3;
+    for (std::size_t d = 0; d < detections.size(); ++d) {
+      const double iou = IntersectionOverUnion(predicted, detections[d].box);
+      if (!used[d] && iou > best_iou) best = static_cast<int>(d), best_iou = iou;
+    }
+    if (best >= 0) {
+      // A fresh detection re-anchors the box and its relation to the landmarks.
+      used[best] = true;
+      track.box = detections[best].box;
+      track.raw = landmark_detector_->Detect(gray_, track.box);
+      track.calibration = Calibrate(track.box, track.raw);
+      track.confidence = ConfidenceFromScore(detections[best].score);
+    } else {
+      track.box = predicted;
+      track.raw = landmark_detector_->Detect(gray_, track.box);
+      track.confidence = ConfidenceFromScore(detector_.Verify(gray_, track.box).score);
+    }
+    track.missed_frames = track.confidence < options_.missed_confidence ? track.missed_frames + 1 : 0;
+    refreshed[t] = true;
+  }
+  std::erase_if(tracks_, [&](const Track& track) { return track.missed_frames >= options_.max_missed_frames; });
+
+  // New faces.
+  for (std::size_t d = 0; d < detections.size(); ++d) {
+    if (used[d]) continue;
+    const bool overlaps = std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& track) {
+      return IntersectionOverUnion(track.box, detections[d].box) > 0.3;
+    });
+    if (!overlaps) tracks_.push_back(StartTrack(detections[d]));
+  }
+  // Two tracks that converged on one face: keep the older.
+  for (std::size_t a = 0; a < tracks_.size(); ++a) {
+    for (std::size_t b = a + 1; b < tracks_.size();) {
+      if (IntersectionOverUnion(tracks_[a].box, tracks_[b].box) > 0.5) {
+        tracks_.erase(tracks_.begin() + static_cast<std::ptrdiff_t>(b));
+      } else {
+        ++b;
+      }
+    }
+  }
+  if (options_.largest_only && tracks_.size() > 1) {
+    const auto largest = std::max_element(tracks_.begin(), tracks_.end(), [](const Track& a, const Track& b) {
+      return a.box.area() < b.box.area();
+    });
+    Track keep = std::move(*largest);
+    tracks_.clear();
+    tracks_.push_back(std::move(keep));
+  }
+
+  std::vector<Face> faces;
+  for (Track& track : tracks_) {
+    Smooth(track, timestamp_s);
+    faces.push_back(ToFace(track, camera, true));
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.id < b.id; });
+  return faces;
+}
+
+void FaceTracker::Smooth(Track& track, double timestamp_s) {
+  if (!options_.smooth) {
+    track.smoothed = track.raw;
+    return;
+  }
+  // The cutoff rises with speed measured in interocular distances per second,
+  // which means the same for near and far faces.
+  const double unit = std::max((track.raw[45] - track.raw[36]).norm(), 1.0);
+  const double dt = timestamp_s - track.last_timestamp;
+  for (int i = 0; i < kNumLandmarks; ++i) {
+    track.smoothed[i].x() = track.filters[2 * i].Filter(track.raw[i].x(), dt, unit);
+    track.smoothed[i].y() = track.filters[2 * i + 1].Filter(track.raw[i].y(), dt, unit);
+  }
+  track.last_timestamp = timestamp_s;
+}
+
+Face FaceTracker::ToFace(Track& track, const Camera& camera, bool use_previous_pose) {
+  track.pose = EstimateHeadPose(track.smoothed, mean_face_, camera, use_previous_pose && track.has_pose ? &track.pose : nullptr);
+  track.has_pose = true;
+  Face face;
+  face.id = track.id;
+  face.box = track.box;
+  face.confidence = track.confidence;
+  face.landmarks = track.smoothed;
+  face.pose = track.pose;
+  return face;
+}
+
+}  // namespace gazedirector

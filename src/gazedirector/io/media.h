@@ -1,0 +1,29 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace gazedirector {
+
+enum class MediaKind { kImage, kVideo };
+
+// What a file holds, judged by its first bytes (then its extension). Fails
+// with ExitCode::kBadInput for a missing, empty or unrecognised file.
+MediaKind DetectMediaKind(const std::filesystem::path& path);
+
+// True when the path's extension names a video container we can write.
+bool HasVideoExtension(const std::filesystem::path& path);
+
+struct ImageHeader {
+  std::string format;  // "jpeg", "png", ...
+  int width = 0;
+  int height = 0;
+  bool complete = true;  // false when the file ends before the image data does
+};
+
+// Reads the size from a JPEG or PNG header without decoding; nullopt for
+// other formats. Used to refuse oversized and truncated images cheaply.
+std::optional<ImageHeader> ProbeImageHeader(const std::filesystem::path& path);
+
+}  // namespace gazedirector

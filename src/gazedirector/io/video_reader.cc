@@ -1,0 +1,70 @@
+#include "gazedirector/io/video_reader.h"
+
+#include <cmath>
+
+#include <opencv2/videoio.hpp>
+
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/media.h"
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+
+FrameRate FrameRate::FromDouble(double fps) {
+  if (!(fps > 0) || !std::isfinite(fps)) return {30, 1};
+  for (int denominator : {1, 1001, 2, 4, 5, 10, 100, 1000}) {
+    const double numerator = fps * denominator;
+    if (std::abs(numerator - std::round(numerator)) < 1e-3 * denominator) {
+      return {static_cast<int>(std::round(numerator)), denominator};
+    }
+  }
+  return {static_cast<int>(std::round(fps * 1000)), 1000};
+}
+
+VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
+  if (DetectMediaKind(path) != MediaKind::kVideo) Fail(ExitCode::kBadInput, "{}: not a video", path.string());
+  capture_ = std::make_unique<cv::VideoCapture>();
+  try {
+    capture_->open(path.string(), cv::CAP_FFMPEG);
+  } catch (const cv::Exception& e) {
+    Fail(ExitCode::kBadInput, "{}: cannot open the video ({})", path.string(), e.err);
+  }
+  if (!capture_->isOpened()) {
+    Fail(ExitCode::kBadInput, "{}: cannot open the video (truncated, corrupt or unsupported)", path.string());
+  }
+  info_.width = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_WIDTH));
+  info_.height = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_HEIGHT));
+  info_.frame_rate = FrameRate::FromDouble(capture_->get(cv::CAP_PROP_FPS));
+  info_.frame_count = std::max(0L, static_cast<long>(capture_->get(cv::CAP_PROP_FRAME_COUNT)));
+  if (info_.width < kMinImageSide || info_.height < kMinImageSide) {
+    Fail(ExitCode::kBadInput, "{}: the video is {}x{} pixels; too small to hold a face", path.string(), info_.width,
+         info_.height);
+  }
+}
+
+VideoReader::~VideoReader() = default;
+
+bool VideoReader::Read(cv::Mat& frame) {
+  if (ended_) return false;
+  cv::Mat decoded;
+  bool ok = false;
+  try {
+    ok = capture_->read(decoded);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  if (!ok || decoded.empty()) {
+    ended_ = true;
+    if (frame_index_ < 0) Fail(ExitCode::kBadInput, "{}: no frame could be decoded", path_.string());
+    return false;
+  }
+  frame = decoded.type() == CV_8UC3 ? decoded : ToBgr8(decoded);
+  ++frame_index_;
+  return true;
+}
+
+bool VideoReader::EndedEarly() const {
+  return ended_ && info_.frame_count > 0 && frame_index_ + 1 < info_.frame_count - 1;
+}
+
+}  // namespace gazedirector

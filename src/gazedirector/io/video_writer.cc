@@ -1,0 +1,61 @@
+#include "gazedirector/io/video_writer.h"
+
+#include <algorithm>
+#include <string>
+
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace fs = std::filesystem;
+
+VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options, const std::vector<fs::path>& inputs)
+    : options_(options), output_(path, inputs) {
+  if (!ProgramExists("ffmpeg")) {
+    Fail(ExitCode::kOutput, "writing {} needs the ffmpeg program; install Debian's ffmpeg (bash scripts/setup.sh does)",
+         path.string());
+  }
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string rate = std::to_string(options.frame_rate.numerator) + "/" + std::to_string(options.frame_rate.denominator);
+  std::vector<std::string> argv = {"ffmpeg", "-hide_banner", "-nostdin", "-loglevel", "error", "-y",
+                                   "-f", "rawvideo", "-pix_fmt", "bgr24",
+                                   "-s", std::to_string(options.width) + "x" + std::to_string(options.height),
+                                   "-framerate", rate, "-i", "pipe:0"};
+  const bool gif = extension == ".gif";
+  if (!gif && !options.audio_source.empty()) {
+    argv.insert(argv.end(), {"-i", options.audio_source.string(), "-map", "0:v:0", "-map", "1:a?", "-c:a", "copy"});
+  }
+  if (gif) {
+    argv.insert(argv.end(), {"-vf", "split[a][b];[a]palettegen=stats_mode=diff[p];[b][p]paletteuse=dither=bayer"});
+  } else {
+    const bool even = options.width % 2 == 0 && options.height % 2 == 0;
+    argv.insert(argv.end(), {"-c:v", "libx264", "-preset", "veryfast", "-crf", std::to_string(options.crf),
+                             "-pix_fmt", even ? "yuv420p" : "yuv444p", "-r", rate});
+    if (extension == ".mp4" || extension == ".mov" || extension == ".m4v") argv.insert(argv.end(), {"-movflags", "+faststart"});
+  }
+  argv.push_back(output_.temp_path().string());
+  encoder_ = std::make_unique<Subprocess>(argv);
+}
+
+VideoWriter::~VideoWriter() = default;
+
+void VideoWriter::Write(const cv::Mat& frame) {
+  CV_Assert(frame.type() == CV_8UC3 && frame.cols == options_.width && frame.rows == options_.height);
+  const cv::Mat contiguous = frame.isContinuous() ? frame : frame.clone();
+  if (!encoder_->Write(contiguous.data, contiguous.total() * contiguous.elemSize())) {
+    const std::string message = encoder_->ErrorOutput();
+    encoder_->Kill();
+    Fail(ExitCode::kOutput, "ffmpeg stopped while writing {}: {}", output_.path().string(), message);
+  }
+  ++frames_written_;
+}
+
+void VideoWriter::Finish() {
+  const int status = encoder_->Finish();
+  if (status != 0) {
+    Fail(ExitCode::kOutput, "ffmpeg failed to write {}: {}", output_.path().string(), encoder_->ErrorOutput());
+  }
+  output_.Commit();
+}
+
+}  // namespace gazedirector

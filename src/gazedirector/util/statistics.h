@@ -1,0 +1,13 @@
+#pragma once
+
+#include <vector>
+
+namespace gazedirector {
+
+double Mean(const std::vector<double>& values);
+// The median (mean of the middle two for even counts); 0 for no values.
+double Median(std::vector<double> values);
+// The q-quantile (0..1) with linear interpolation.
+double Quantile(std::vector<double> values, double q);
+
+}  // namespace gazedirector

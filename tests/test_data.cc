@@ -1,0 +1,55 @@
+#include "tests/test_data.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+
+namespace gazedirector::testing {
+namespace fs = std::filesystem;
+
+fs::path SharedDir() { return fs::path(GAZEDIRECTOR_SHARED_DIR); }
+
+fs::path DataPath(const std::string& relative) { return SharedDir() / "data" / relative; }
+
+const Assets& TestAssets() {
+  static const Assets assets = Assets::Resolve((SharedDir() / "assets").string());
+  return assets;
+}
+
+std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector() {
+  static const auto detector = std::make_shared<const LandmarkDetector>(TestAssets().landmark_model());
+  return detector;
+}
+
+fs::path ScratchDir(const std::string& name) {
+  static const fs::path root = fs::temp_directory_path() / ("gazedirector-tests-" + std::to_string(::getpid()));
+  static const struct Cleanup {
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(root, ec);
+    }
+  } cleanup;
+  const fs::path dir = root / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path CliPath() { return fs::path(GAZEDIRECTOR_CLI_PATH); }
+
+int RunCli(const std::string& arguments, std::string* output) {
+  const std::string command = "'" + CliPath().string() + "' " + arguments + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return -1;
+  std::array<char, 4096> buffer;
+  std::string text;
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) text += buffer.data();
+  const int status = ::pclose(pipe);
+  if (output != nullptr) *output = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace gazedirector::testing
