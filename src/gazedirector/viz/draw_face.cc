@@ -24,7 +24,9 @@ constexpr std::array<Contour, 9> kContours = {{{0, 16, false}, {17, 21, false}, 
 int LineThickness(const cv::Mat& image) { return std::max(1, std::min(image.cols, image.rows) / 400); }
 
 void DrawFace(cv::Mat& image, const Face& face, const Camera& camera) {
-  const int thickness = LineThickness(image);
+  // Sizes follow the face, so that small faces in group photos stay readable.
+  const double size = std::max(face.box.width, 20.0);
+  const int thickness = std::max(1, static_cast<int>(size / 200));
   const cv::Scalar green(80, 220, 80), white(255, 255, 255);
   cv::rectangle(image, face.box, cv::Scalar(255, 180, 0), thickness, cv::LINE_AA);
   for (const Contour& c : kContours) {
@@ -32,7 +34,8 @@ void DrawFace(cv::Mat& image, const Face& face, const Camera& camera) {
     for (int i = c.first; i <= c.last; ++i) points.push_back(ToPoint(face.landmarks[i]) * 16);
     cv::polylines(image, points, c.closed, green, thickness, cv::LINE_AA, 4);
   }
-  for (const auto& p : face.landmarks) cv::circle(image, ToPoint(p) * 16, 16 * (thickness + 1), white, -1, cv::LINE_AA, 4);
+  const int radius = std::max(16, static_cast<int>(16 * size / 120));
+  for (const auto& p : face.landmarks) cv::circle(image, ToPoint(p) * 16, radius, white, -1, cv::LINE_AA, 4);
 
   // Head axes, 40 mm long, drawn from the nose tip.
   const Eigen::Vector3d kNoseTip(0.0, -4.1, -130.7);  // in the head frame (the mean face's point 30)
@@ -42,15 +45,15 @@ void DrawFace(cv::Mat& image, const Face& face, const Camera& camera) {
     for (int axis = 0; axis < 3; ++axis) {
       // x and y as they are; z drawn toward the viewer (the way the face looks).
       const double sign = axis == 2 ? -1.0 : 1.0;
-      const Eigen::Vector3d tip = origin + face.pose.rotation.col(axis) * 40.0 * sign;
+      const Eigen::Vector3d tip = origin + face.pose.rotation.col(axis) * 40.0 * sign;  // mm
       if (tip.z() <= 1) continue;
       cv::arrowedLine(image, ToPoint(camera.Project(origin)), ToPoint(camera.Project(tip)), colours[axis], thickness + 1,
                       cv::LINE_AA, 0, 0.15);
     }
   }
   const std::string label = fmt::format("face {}  {:.2f}", face.id, face.confidence);
-  const double font = 0.4 * thickness + 0.1;
-  cv::putText(image, label, cv::Point(static_cast<int>(face.box.x), static_cast<int>(face.box.y) - 4 * thickness),
+  const double font = std::clamp(size / 400, 0.3, 2.0);
+  cv::putText(image, label, cv::Point(static_cast<int>(face.box.x), static_cast<int>(face.box.y - 4 - size / 100)),
               cv::FONT_HERSHEY_SIMPLEX, font, white, thickness, cv::LINE_AA);
 }
 

@@ -1,0 +1,133 @@
+#include "gazedirector/face/face_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/video_reader.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+using testing::DataPath;
+
+FaceTracker MakeTracker(FaceTrackerOptions options = {}) {
+  return FaceTracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()), options);
+}
+
+std::vector<cv::Mat> ReadFrames(const std::string& video, int count) {
+  VideoReader reader(DataPath(video));
+  std::vector<cv::Mat> frames;
+  cv::Mat frame;
+  while (static_cast<int>(frames.size()) < count && reader.Read(frame)) frames.push_back(frame.clone());
+  return frames;
+}
+
+TEST(FaceTrackerTest, FindsTheFaceInAPortraitAndNoneInACat) {
+  FaceTracker tracker = MakeTracker();
+  const cv::Mat portrait = ReadImage(DataPath("images/s42.jpg"));
+  const std::vector<Face> faces = tracker.DetectFaces(portrait, Camera::Default(portrait.cols, portrait.rows));
+  ASSERT_EQ(faces.size(), 1u);
+  EXPECT_GT(faces[0].confidence, 0.9);
+  EXPECT_GT(faces[0].InterocularDistance(), 60);
+  // A roughly frontal face 30-70 cm from a camera with the default intrinsics.
+  EXPECT_GT(faces[0].pose.translation.z(), 300);
+  EXPECT_LT(faces[0].pose.translation.z(), 700);
+  EXPECT_GT(faces[0].pose.rotation(2, 2), std::cos(0.35));
+
+  const cv::Mat cat = ReadImage(DataPath("images/s39.jpg"));
+  EXPECT_TRUE(tracker.DetectFaces(cat, Camera::Default(cat.cols, cat.rows)).empty());
+}
+
+TEST(FaceTrackerTest, FindsEveryFaceInAGroupPhotoAndLargestPicksOne) {
+  const cv::Mat group = ReadImage(DataPath("dlib-faces/bald_guys.jpg"));
+  const Camera camera = Camera::Default(group.cols, group.rows);
+  FaceTracker all = MakeTracker();
+  const std::vector<Face> faces = all.DetectFaces(group, camera);
+  ASSERT_GE(faces.size(), 3u);
+  for (std::size_t i = 1; i < faces.size(); ++i) EXPECT_LE(faces[i - 1].box.x, faces[i].box.x) << "ids go left to right";
+
+  FaceTrackerOptions largest_only;
+  largest_only.largest_only = true;
+  FaceTracker largest = MakeTracker(largest_only);
+  const std::vector<Face> one = largest.DetectFaces(group, camera);
+  ASSERT_EQ(one.size(), 1u);
+  for (const Face& face : faces) EXPECT_LE(face.box.area(), one[0].box.area() + 1e-6);
+}
+
+TEST(FaceTrackerTest, TracksAVideoFaceWithAStableIdAndWithoutDrift) {
+  const std::vector<cv::Mat> frames = ReadFrames("video/d3.mp4", 120);
+  ASSERT_EQ(frames.size(), 120u);
+  const Camera camera = Camera::Default(frames[0].cols, frames[0].rows);
+  FaceTracker tracker = MakeTracker();
+  FaceTracker still = MakeTracker();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const std::vector<Face> faces = tracker.TrackFrame(frames[i], i / 30.0, camera);
+    ASSERT_EQ(faces.size(), 1u) << "frame " << i;
+    EXPECT_EQ(faces[0].id, 0);
+    if (i % 30 == 29) {
+      // Tracked landmarks stay close to a fresh detection of the same frame.
+      const std::vector<Face> fresh = still.DetectFaces(frames[i], camera);
+      ASSERT_EQ(fresh.size(), 1u);
+      double error = 0;
+      for (int k = 0; k < kNumLandmarks; ++k) error += (faces[0].landmarks[k] - fresh[0].landmarks[k]).norm();
+      EXPECT_LT(error / kNumLandmarks, 0.05 * fresh[0].InterocularDistance()) << "frame " << i;
+    }
+  }
+}
+
+TEST(FaceTrackerTest, SmoothingRemovesJitterWithoutLagging) {
+  const std::vector<cv::Mat> frames = ReadFrames("video/d19.mp4", 150);
+  const Camera camera = Camera::Default(frames[0].cols, frames[0].rows);
+  FaceTrackerOptions raw_options;
+  raw_options.smooth = false;
+  FaceTracker raw_tracker = MakeTracker(raw_options);
+  FaceTracker smooth_tracker = MakeTracker();
+  std::vector<Landmarks68> raw, smooth;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    raw.push_back(raw_tracker.TrackFrame(frames[i], i / 30.0, camera).at(0).landmarks);
+    smooth.push_back(smooth_tracker.TrackFrame(frames[i], i / 30.0, camera).at(0).landmarks);
+  }
+  // Jitter: the frame-to-frame second difference; lag: the mean distance
+  // between smoothed and raw points. Both relative to the eye-corner distance.
+  double raw_jitter = 0, smooth_jitter = 0, offset = 0;
+  const double unit = (raw[0][45] - raw[0][36]).norm();
+  for (std::size_t i = 2; i < frames.size(); ++i) {
+    for (int k = 0; k < kNumLandmarks; ++k) {
+      raw_jitter += (raw[i][k] - 2 * raw[i - 1][k] + raw[i - 2][k]).norm();
+      smooth_jitter += (smooth[i][k] - 2 * smooth[i - 1][k] + smooth[i - 2][k]).norm();
+      offset += (smooth[i][k] - raw[i][k]).norm();
+    }
+  }
+  const double samples = (frames.size() - 2) * kNumLandmarks;
+  EXPECT_LT(smooth_jitter, 0.6 * raw_jitter);
+  EXPECT_LT(offset / samples / unit, 0.02);
+}
+
+TEST(FaceTrackerTest, DropsALostFaceAndFindsTheNextWithANewId) {
+  std::vector<cv::Mat> frames = ReadFrames("video/d3.mp4", 10);
+  const cv::Mat blank(frames[0].size(), CV_8UC3, cv::Scalar(40, 40, 40));
+  for (int i = 0; i < 10; ++i) frames.push_back(blank);
+  for (const cv::Mat& frame : ReadFrames("video/d19.mp4", 10)) {
+    cv::Mat padded;
+    cv::copyMakeBorder(frame, padded, 0, 32, 0, 32, cv::BORDER_REPLICATE);
+    frames.push_back(padded);
+  }
+  const Camera camera = Camera::Default(frames[0].cols, frames[0].rows);
+  FaceTracker tracker = MakeTracker();
+  std::vector<std::size_t> counts;
+  std::vector<int> ids;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const std::vector<Face> faces = tracker.TrackFrame(frames[i], i / 30.0, camera);
+    counts.push_back(faces.size());
+    ids.push_back(faces.empty() ? -1 : faces[0].id);
+  }
+  EXPECT_EQ(counts[5], 1u);
+  EXPECT_EQ(ids[5], 0);
+  EXPECT_EQ(counts[19], 0u) << "the face is dropped once the detector stops seeing it";
+  EXPECT_EQ(counts[29], 1u);
+  EXPECT_EQ(ids[29], 1) << "a face found anew gets a new id";
+}
+
+}  // namespace
+}  // namespace gazedirector

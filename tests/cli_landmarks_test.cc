@@ -1,0 +1,151 @@
+// End-to-end tests of `gazedirector landmarks` on real photos and videos.
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::DataPath;
+using testing::RunCli;
+using testing::ScratchDir;
+
+std::string Quote(const fs::path& path) { return "'" + path.string() + "'"; }
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream stream(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(stream), {});
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream stream(text);
+  for (std::string line; std::getline(stream, line);) lines.push_back(line);
+  return lines;
+}
+
+bool NoPartialFiles(const fs::path& dir) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".partial") != std::string::npos) return false;
+  }
+  return true;
+}
+
+TEST(CliLandmarksTest, WritesJsonCsvAndOverlayForAPortrait) {
+  const fs::path dir = ScratchDir("cli_landmarks_image");
+  const fs::path input = DataPath("images/d30.jpg");
+  const std::string before = ReadText(input);
+  std::string output;
+  ASSERT_EQ(RunCli("landmarks " + Quote(input) + " -o " + Quote(dir / "out.json") + " --csv " + Quote(dir / "out.csv") +
+                       " --overlay " + Quote(dir / "out.png"),
+                   &output),
+            0)
+      << output;
+  EXPECT_EQ(ReadText(input), before) << "inputs are never modified";
+
+  const nlohmann::json document = nlohmann::json::parse(ReadText(dir / "out.json"));
+  ASSERT_EQ(document["faces"].size(), 1u);
+  EXPECT_EQ(document["faces"][0]["landmarks"].size(), 68u);
+  EXPECT_EQ(document["camera"]["fx"].get<double>(), 900.0) << "default focal length: the longer image side";
+
+  const std::vector<std::string> csv = Lines(ReadText(dir / "out.csv"));
+  ASSERT_EQ(csv.size(), 2u);
+  EXPECT_EQ(csv[0].rfind("frame,face_id,timestamp,confidence,success,pose_Tx,pose_Ty,pose_Tz,pose_Rx,pose_Ry,pose_Rz,x_0,", 0), 0u);
+  EXPECT_NE(csv[0].find(",y_67"), std::string::npos);
+  EXPECT_GT(fs::file_size(dir / "out.png"), 10000u);
+  EXPECT_TRUE(NoPartialFiles(dir));
+}
+
+TEST(CliLandmarksTest, GivenIntrinsicsAreUsed) {
+  const fs::path dir = ScratchDir("cli_landmarks_intrinsics");
+  ASSERT_EQ(RunCli("landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "a.json") + " --fx 1500 --cx 250"), 0);
+  const nlohmann::json document = nlohmann::json::parse(ReadText(dir / "a.json"));
+  EXPECT_EQ(document["camera"]["fx"].get<double>(), 1500.0);
+  EXPECT_EQ(document["camera"]["fy"].get<double>(), 1500.0);
+  EXPECT_EQ(document["camera"]["cx"].get<double>(), 250.0);
+  // A longer focal length puts the same face farther away.
+  EXPECT_GT(document["faces"][0]["head_pose"]["translation_mm"][2].get<double>(), 1000.0);
+}
+
+TEST(CliLandmarksTest, ACatIsANoFaceResultWithItsOwnExitCode) {
+  const fs::path dir = ScratchDir("cli_landmarks_cat");
+  std::string output;
+  EXPECT_EQ(RunCli("landmarks " + Quote(DataPath("images/s39.jpg")) + " -o " + Quote(dir / "cat.json"), &output), 3);
+  EXPECT_NE(output.find("no face found"), std::string::npos) << output;
+  EXPECT_TRUE(nlohmann::json::parse(ReadText(dir / "cat.json"))["faces"].empty());
+}
+
+TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
+  const fs::path dir = ScratchDir("cli_landmarks_bad");
+  {
+    std::ifstream in(DataPath("images/s42.jpg"), std::ios::binary);
+    std::string half(20000, '\0');
+    in.read(half.data(), static_cast<std::streamsize>(half.size()));
+    std::ofstream(dir / "truncated.jpg", std::ios::binary) << half;
+    std::ifstream video(DataPath("video/d19.mp4"), std::ios::binary);
+    std::string head(200000, '\0');
+    video.read(head.data(), static_cast<std::streamsize>(head.size()));
+    std::ofstream(dir / "truncated.mp4", std::ios::binary) << head;
+    std::ofstream(dir / "empty.png").close();
+  }
+  struct Case {
+    std::string arguments;
+    int code;
+  };
+  const std::vector<Case> cases = {
+      {"landmarks " + Quote(dir / "missing.jpg") + " -o " + Quote(dir / "o1.json"), 4},
+      {"landmarks " + Quote(dir / "truncated.jpg") + " -o " + Quote(dir / "o2.json"), 4},
+      {"landmarks " + Quote(dir / "empty.png") + " -o " + Quote(dir / "o3.json"), 4},
+      {"landmarks " + Quote(dir / "truncated.mp4") + " -o " + Quote(dir / "o4.jsonl"), 4},
+      {"landmarks " + Quote(DataPath("images/s42.jpg")), 2},
+      {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o5.json") + " --overlay " + Quote(dir / "o5.mp4"), 2},
+      {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o6.json") + " --assets " + Quote(dir / "nowhere"), 5},
+  };
+  for (const Case& c : cases) {
+    std::string output;
+    EXPECT_EQ(RunCli(c.arguments, &output), c.code) << c.arguments << "\n" << output;
+    EXPECT_FALSE(output.empty());
+    EXPECT_EQ(output.find("internal error"), std::string::npos) << output;
+  }
+  for (const char* name : {"o1.json", "o2.json", "o3.json", "o4.jsonl", "o5.json", "o6.json"}) {
+    EXPECT_FALSE(fs::exists(dir / name)) << name;
+  }
+  EXPECT_TRUE(NoPartialFiles(dir));
+}
+
+TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
+  const fs::path dir = ScratchDir("cli_landmarks_video");
+  std::string output;
+  ASSERT_EQ(RunCli("landmarks " + Quote(DataPath("video/d19.mp4")) + " -o " + Quote(dir / "d19.jsonl") + " --csv " +
+                       Quote(dir / "d19.csv") + " --overlay " + Quote(dir / "d19.mp4") + " --largest",
+                   &output),
+            0)
+      << output;
+  const std::vector<std::string> lines = Lines(ReadText(dir / "d19.jsonl"));
+  ASSERT_EQ(lines.size(), 250u);
+  for (std::size_t i = 0; i < lines.size(); i += 50) {
+    const nlohmann::json frame = nlohmann::json::parse(lines[i]);
+    EXPECT_EQ(frame["frame"].get<long>(), static_cast<long>(i));
+    ASSERT_EQ(frame["faces"].size(), 1u);
+    EXPECT_EQ(frame["faces"][0]["face_id"].get<int>(), 0);
+  }
+  EXPECT_EQ(Lines(ReadText(dir / "d19.csv")).size(), 251u);
+
+  std::string probe;
+  const std::string command = "ffprobe -v error -count_frames -show_entries stream=codec_type,nb_read_frames -of csv=p=0 " +
+                              Quote(dir / "d19.mp4");
+  FILE* pipe = ::popen(command.c_str(), "r");
+  char buffer[256];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) probe += buffer;
+  ::pclose(pipe);
+  EXPECT_NE(probe.find("video,250"), std::string::npos) << probe;
+  EXPECT_NE(probe.find("audio"), std::string::npos) << probe;
+}
+
+}  // namespace
+}  // namespace gazedirector
