@@ -2,7 +2,7 @@
 # Regenerates the pictures in docs/images from the real data in ../shared.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-gd=build/release/src/gazedirector
+gd=build/release/gazedirector
 out=docs/images
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
