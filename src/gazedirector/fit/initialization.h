@@ -1,0 +1,23 @@
+#pragma once
+
+#include "gazedirector/face/face.h"
+#include "gazedirector/geometry/camera.h"
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/model/parameters.h"
+
+namespace gazedirector {
+
+inline constexpr double kAverageInterocularMm = 63.0;
+
+// The paper's initialisation from facial landmarks: the eye regions take the
+// head's rotation, their translation is fitted so that the model's eye
+// corners project onto the four landmarked corners (at the average
+// interocular distance), and everything else starts at its mean: shape,
+// texture, an average iris, gaze straight ahead and a basic light.
+Parameters InitializeFromLandmarks(const Face& face, const Camera& camera, const EyeRegionModel& model);
+
+// The model's eye corners (inner, outer) of one eye in the camera frame for Φ,
+// with the mean shape and resting lids.
+std::array<Eigen::Vector3d, 2> ModelEyeCorners(const Parameters& phi, const EyeRegionModel& model, int eye);
+
+}  // namespace gazedirector

@@ -1,0 +1,204 @@
+#include "gazedirector/model/eye_region_model.h"
+
+#include <array>
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/geometry/rotation.h"
+#include "gazedirector/io/obj_reader.h"
+#include "gazedirector/model/eye_region_topology.h"
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr int kEyeballTextureSize = 512;
+
+std::vector<Eigen::Vector3i> Rewound(std::vector<Eigen::Vector3i> triangles) {
+  for (Eigen::Vector3i& t : triangles) std::swap(t[1], t[2]);
+  return triangles;
+}
+
+// The eyeball colour map with the iris desaturated to its luminance: the
+// fitted iris colour τ_iris supplies the hue.
+RgbTexture LoadEyeballTexture(const fs::path& path) {
+  cv::Mat bgr = cv::imread(path.string(), cv::IMREAD_COLOR);
+  if (bgr.empty()) Fail(ExitCode::kAssets, "cannot read the eyeball texture {}", path.string());
+  cv::resize(bgr, bgr, cv::Size(kEyeballTextureSize, kEyeballTextureSize), 0, 0, cv::INTER_AREA);
+  RgbTexture texture(kEyeballTextureSize);
+  float* out = texture.data();
+  const double iris_radius_px = topology::kLimbusUvRadius * kEyeballTextureSize;
+  for (int y = 0; y < kEyeballTextureSize; ++y) {
+    for (int x = 0; x < kEyeballTextureSize; ++x) {
+      const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+      const float r = p[2] / 255.0f, g = p[1] / 255.0f, b = p[0] / 255.0f;
+      const double distance = std::hypot(x + 0.5 - 0.5 * kEyeballTextureSize, y + 0.5 - 0.5 * kEyeballTextureSize);
+      const float iris = static_cast<float>(std::clamp((iris_radius_px + 3.0 - distance) / 6.0, 0.0, 1.0));
+      const float luminance = 0.299f * r + 0.587f * g + 0.114f * b;
+      float* texel = out + (static_cast<std::size_t>(y) * kEyeballTextureSize + x) * 3;
+      texel[0] = iris * luminance + (1 - iris) * r;
+      texel[1] = iris * luminance + (1 - iris) * g;
+      texel[2] = iris * luminance + (1 - iris) * b;
+    }
+  }
+  texture.BuildMips();
+  return texture;
+}
+
+constexpr int kLidCurvePoints = 2 + static_cast<int>(topology::kUpperMargin.size());
+static_assert(topology::kUpperMargin.size() == topology::kLowerMargin.size());
+
+// Least-squares cubic y(x) through the points (fixed size: no allocation).
+Eigen::Vector4d FitCubic(const std::array<Eigen::Vector2d, kLidCurvePoints>& points) {
+  Eigen::Matrix4d normal = 1e-6 * Eigen::Matrix4d::Identity();  // a touch of ridge for nearly straight lids
+  Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+  for (const Eigen::Vector2d& p : points) {
+    const double x = p.x();
+    const Eigen::Vector4d row(1, x, x * x, x * x * x);
+    normal += row * row.transpose();
+    rhs += row * p.y();
+  }
+  return normal.ldlt().solve(rhs);
+}
+
+}  // namespace
+
+Eigen::Matrix3d EyeRegionModel::ModelToHead(int eye) {
+  Eigen::Matrix3d m;
+  m << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  if (eye == kRightEye) m.col(0) *= -1.0;
+  return m;
+}
+
+Eigen::Matrix3d EyeRegionModel::GazeRotation(double pitch_deg, double yaw_deg) {
+  // Fick gimbal in the head frame: yaw about the vertical axis after pitch.
+  return (Eigen::AngleAxisd(-DegToRad(yaw_deg), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(-DegToRad(pitch_deg), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Vector3d EyeRegionModel::GazeInHead(double pitch_deg, double yaw_deg) {
+  return GazeRotation(pitch_deg, yaw_deg) * Eigen::Vector3d(0, 0, -1);
+}
+
+double EyeRegionModel::EyeYaw(const Parameters& phi, int eye) {
+  // The left eye sits at +x; converging turns it toward -x (smaller yaw).
+  return eye == kLeftEye ? phi.gaze_yaw() - 0.5 * phi.vergence() : phi.gaze_yaw() + 0.5 * phi.vergence();
+}
+
+Eigen::Vector3d EyeRegionModel::EyeCentreInHead(const Parameters& phi, int eye) {
+  return Eigen::Vector3d(eye == kLeftEye ? 0.5 * phi.interocular() : -0.5 * phi.interocular(), 0, 0);
+}
+
+std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets) {
+  auto model = std::make_shared<EyeRegionModel>();
+  const fs::path root = assets.eye_model();
+  model->shape_ = ShapeModel::Load(root / "shape", kNumShapeModes);
+  if (model->shape_.num_vertices() != topology::kNumRegionVertices) {
+    Fail(ExitCode::kAssets, "{}: the shape model has {} vertices, not {}", root.string(), model->shape_.num_vertices(),
+         topology::kNumRegionVertices);
+  }
+  model->subdivision_ = Subdivision::Load(root / "subdivision", "eye_region", topology::kNumRegionVertices);
+  const ObjMesh region = ReadObj(root / "mesh" / "eye_region.obj");
+  if (static_cast<int>(region.positions.size()) != topology::kNumRegionVertices || region.uvs.empty()) {
+    Fail(ExitCode::kAssets, "{}: not the 229-vertex eye region mesh", (root / "mesh" / "eye_region.obj").string());
+  }
+  Eigen::Matrix2Xd base_uvs(2, topology::kNumRegionVertices);
+  for (int i = 0; i < topology::kNumRegionVertices; ++i) base_uvs.col(i) = region.uvs[i];
+  model->subdivision_.Apply(base_uvs, model->skin_uvs_);
+
+  // Wind the skin so that normals point out of the face (-y in the model frame).
+  Eigen::Matrix3Xd subdivided;
+  model->subdivision_.Apply(model->shape_.mean(), subdivided);
+  std::vector<Eigen::Vector3i> skin = model->subdivision_.triangles();
+  OrientTriangles(subdivided, skin, Eigen::Vector3d(0, -1, 0), /*radial=*/false);
+  model->triangles_[kLeftSkin] = skin;
+  model->triangles_[kRightSkin] = Rewound(skin);
+
+  model->eyeball_ = EyeballModel::Load(root / "mesh" / "eyeball.obj");
+  model->triangles_[kLeftEyeball] = model->eyeball_.triangles();
+  model->triangles_[kRightEyeball] = Rewound(model->eyeball_.triangles());
+
+  model->skin_texture_ =
+      SkinTextureModel::LoadOrBuild(root / "textures" / "skin", Assets::CacheDir(), kNumTextureModes);
+  model->eyeball_texture_ = LoadEyeballTexture(root / "textures" / "iris" / "eyeball_grey.png");
+  return model;
+}
+
+void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspace& work) const {
+  const Eigen::Matrix3d rotation = phi.rotation();
+  const Eigen::Vector3d translation = phi.translation();
+  shape_.Evaluate(phi.shape().data(), work.shape);
+  posed.look_down_blend = static_cast<float>(LookDownBlend(phi.eyelid_pitch()));
+
+  for (int eye = 0; eye < 2; ++eye) {
+    const Eigen::Matrix3d model_to_head = ModelToHead(eye);
+    const Eigen::Matrix3d gaze_head = GazeRotation(phi.gaze_pitch(), EyeYaw(phi, eye));
+    // The gaze rotation seen in this eye's model frame (ModelToHead is orthogonal).
+    const Eigen::Matrix3d gaze_model = model_to_head.transpose() * gaze_head * model_to_head;
+    const Eigen::Vector3d centre_head = EyeCentreInHead(phi, eye);
+
+    // Facial part: rig the lids, subdivide, place in the camera frame.
+    work.rigged = work.shape;
+    rig_.Apply(phi.eyelid_pitch(), gaze_model * Eigen::Vector3d(0, -1, 0), work.rigged);
+    posed.region[eye] = work.rigged;
+    subdivision_.Apply(work.rigged, work.subdivided);
+    const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
+    const Eigen::Vector3d origin = rotation * centre_head + translation;
+    work.camera_positions.noalias() = region_to_camera * work.subdivided;
+    work.camera_positions.colwise() += origin;
+    const int skin = SkinPart(eye);
+    VertexNormals(work.camera_positions, triangles_[skin], work.normals);
+    PosedPart& skin_part = posed.parts[skin];
+    skin_part.positions = work.camera_positions.cast<float>();
+    skin_part.normals = work.normals.cast<float>();
+    if (skin_part.uvs.cols() != skin_uvs_.cols()) skin_part.uvs = skin_uvs_.cast<float>();
+
+    // Eyeball: rotated by the gaze about its centre.
+    const Eigen::Matrix3d eyeball_to_camera = rotation * gaze_head * model_to_head;
+    PosedPart& ball = posed.parts[EyeballPart(eye)];
+    const int balls = eyeball_.num_vertices();
+    ball.positions.resize(3, balls);
+    ball.normals.resize(3, balls);
+    ball.uvs.resize(2, balls);
+    for (int i = 0; i < balls; ++i) {
+      ball.positions.col(i) = (eyeball_to_camera * eyeball_.positions().col(i) + origin).cast<float>();
+      ball.normals.col(i) = (eyeball_to_camera * eyeball_.normals().col(i)).cast<float>();
+    }
+    const double iris_size = phi.iris_size();
+    for (int i = 0; i < eyeball_.num_vertices(); ++i) {
+      Eigen::Vector2d uv;
+      if (eyeball_.is_cornea()[i]) {
+        const Eigen::Vector3d view = eyeball_to_camera.transpose() * ball.positions.col(i).cast<double>().normalized();
+        uv = eyeball_.RefractedUv(i, view, iris_size);
+      } else {
+        uv = EyeballModel::RemapForIrisSize(eyeball_.uvs().col(i), iris_size);
+      }
+      ball.uvs.col(i) = uv.cast<float>();
+    }
+
+    // The lid margins in the eyeball's angular coordinates.
+    PosedEye& state = posed.eyes[eye];
+    state.centre = origin;
+    state.gaze = rotation * gaze_head * Eigen::Vector3d(0, 0, -1);
+    state.eyeball_to_camera = eyeball_to_camera;
+    std::array<Eigen::Vector2d, kLidCurvePoints> upper, lower;
+    auto angles_of = [&](int vertex) {
+      return EyeballModel::AnglesOf((gaze_model.transpose() * work.rigged.col(vertex)).normalized());
+    };
+    upper.front() = lower.front() = angles_of(topology::kInnerCorner);
+    upper.back() = lower.back() = angles_of(topology::kOuterCorner);
+    for (std::size_t i = 0; i < topology::kUpperMargin.size(); ++i) {
+      upper[i + 1] = angles_of(topology::kUpperMargin[i]);
+      lower[i + 1] = angles_of(topology::kLowerMargin[i]);
+    }
+    state.upper_lid = FitCubic(upper);
+    state.lower_lid = FitCubic(lower);
+  }
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,112 @@
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gazedirector/io/assets.h"
+#include "gazedirector/model/eyeball_model.h"
+#include "gazedirector/model/eyelid_rig.h"
+#include "gazedirector/model/parameters.h"
+#include "gazedirector/model/shape_model.h"
+#include "gazedirector/model/skin_texture_model.h"
+#include "gazedirector/model/subdivision.h"
+#include "gazedirector/render/texture.h"
+
+namespace gazedirector {
+
+// The four parts of the model. "Left" and "right" are the subject's: the left
+// eye is at +x of the head frame, on the image right of a frontal face.
+enum Part : int { kLeftSkin = 0, kRightSkin = 1, kLeftEyeball = 2, kRightEyeball = 3, kNumParts = 4 };
+enum Eye : int { kLeftEye = 0, kRightEye = 1 };
+inline bool IsEyeball(int part) { return part >= kLeftEyeball; }
+inline int EyeOfPart(int part) { return part % 2; }
+inline int SkinPart(int eye) { return eye; }
+inline int EyeballPart(int eye) { return eye + 2; }
+
+// One part posed in camera coordinates (millimetres).
+struct PosedPart {
+  Eigen::Matrix3Xf positions;
+  Eigen::Matrix3Xf normals;
+  Eigen::Matrix2Xf uvs;  // skin texture coordinates, or eyeball texture coordinates (refracted on the cornea)
+};
+
+// What the renderer needs of one eye besides its meshes.
+struct PosedEye {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // eyeball centre, camera frame, mm
+  Eigen::Vector3d gaze = Eigen::Vector3d::UnitZ();   // unit optical axis, camera frame
+  Eigen::Matrix3d eyeball_to_camera = Eigen::Matrix3d::Identity();  // eyeball model frame -> camera (mirrored for the right eye)
+  // The lid margins in the eyeball's angular coordinates: elevation as a
+  // cubic in azimuth (radians), for ambient occlusion of the eyeball.
+  Eigen::Vector4d upper_lid = Eigen::Vector4d::Zero();
+  Eigen::Vector4d lower_lid = Eigen::Vector4d::Zero();
+};
+
+struct PosedModel {
+  std::array<PosedPart, kNumParts> parts;
+  std::array<PosedEye, 2> eyes;
+  float look_down_blend = 0;
+  // The rigged, unsubdivided facial mesh of each eye in its model frame (mm),
+  // kept for landmarks and lid curves.
+  std::array<Eigen::Matrix3Xd, 2> region;
+};
+
+// Scratch space for posing, so that steady-state posing allocates nothing.
+struct PoseWorkspace {
+  Eigen::Matrix3Xd shape;
+  Eigen::Matrix3Xd rigged;
+  Eigen::Matrix3Xd subdivided;
+  Eigen::Matrix3Xd camera_positions;
+  Eigen::Matrix3Xd normals;
+};
+
+// The multi-part eye-region model of the paper: two facial eye regions
+// (mirror images sharing PCA shape and texture), two articulated two-sphere
+// eyeballs fixed relative to them, eyelids that follow the eyelid pitch, and
+// the textures to shade them. Immutable once loaded; share it between threads.
+class EyeRegionModel {
+ public:
+  static std::shared_ptr<const EyeRegionModel> Load(const Assets& assets);
+
+  // Poses every part for Φ (no allocation once `posed` has been used).
+  void Pose(const Parameters& phi, PosedModel& posed, PoseWorkspace& workspace) const;
+
+  const ShapeModel& shape_model() const { return shape_; }
+  const Subdivision& subdivision() const { return subdivision_; }
+  const EyeballModel& eyeball() const { return eyeball_; }
+  const EyelidRig& rig() const { return rig_; }
+  const SkinTextureModel& skin_texture() const { return skin_texture_; }
+  // Eyeball colour (iris desaturated, so that τ_iris gives its hue).
+  const RgbTexture& eyeball_texture() const { return eyeball_texture_; }
+  // Triangles per part, counter-clockwise seen from outside (the right eye's
+  // are re-wound after mirroring).
+  const std::vector<Eigen::Vector3i>& triangles(int part) const { return triangles_[part]; }
+  int num_vertices(int part) const { return IsEyeball(part) ? eyeball_.num_vertices() : subdivision_.num_vertices(); }
+  const Eigen::Matrix2Xd& skin_uvs() const { return skin_uvs_; }
+
+  // The eye's gaze direction in the head frame (x: subject's left, y: down,
+  // z: into the head) for pitch, yaw (degrees) and the vergence share of this eye.
+  static Eigen::Vector3d GazeInHead(double pitch_deg, double yaw_deg);
+  static Eigen::Matrix3d GazeRotation(double pitch_deg, double yaw_deg);
+  // Yaw of one eye: vergence turns each eye toward the nose by half its angle.
+  static double EyeYaw(const Parameters& phi, int eye);
+  // The eyeball centre in the head frame.
+  static Eigen::Vector3d EyeCentreInHead(const Parameters& phi, int eye);
+  // Model frame of the left eye -> head frame (x, y, z) -> (x, -z, y); the
+  // right eye mirrors x first.
+  static Eigen::Matrix3d ModelToHead(int eye);
+
+ private:
+  ShapeModel shape_;
+  Subdivision subdivision_;
+  EyeballModel eyeball_;
+  EyelidRig rig_;
+  SkinTextureModel skin_texture_;
+  RgbTexture eyeball_texture_;
+  Eigen::Matrix2Xd skin_uvs_;
+  std::array<std::vector<Eigen::Vector3i>, kNumParts> triangles_;
+};
+
+}  // namespace gazedirector

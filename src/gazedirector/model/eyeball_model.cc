@@ -1,0 +1,118 @@
+#include "gazedirector/model/eyeball_model.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+#include "gazedirector/io/obj_reader.h"
+#include "gazedirector/model/eye_region_topology.h"
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace {
+
+constexpr double kCorneaRefractiveIndex = 1.376;
+// The iris lies a little behind the limbus ring.
+constexpr double kIrisPlaneDepthMm = topology::kLimbusDepthMm - 0.3;
+constexpr double kScleraUvEdge = 0.45;  // where the stretched sclera meets the unchanged layout
+
+}  // namespace
+
+int OrientTriangles(const Eigen::Matrix3Xd& positions, std::vector<Eigen::Vector3i>& triangles,
+                    const Eigen::Vector3d& outward_hint, bool radial) {
+  int flipped = 0;
+  for (Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3d a = positions.col(t[0]), b = positions.col(t[1]), c = positions.col(t[2]);
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    const Eigen::Vector3d outward = radial ? Eigen::Vector3d((a + b + c) / 3.0) : outward_hint;
+    if (normal.dot(outward) < 0) {
+      std::swap(t[1], t[2]);
+      ++flipped;
+    }
+  }
+  return flipped;
+}
+
+void VertexNormals(const Eigen::Matrix3Xd& positions, const std::vector<Eigen::Vector3i>& triangles,
+                   Eigen::Matrix3Xd& normals) {
+  normals.setZero(3, positions.cols());
+  for (const Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3d n = (positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0]));
+    for (int k = 0; k < 3; ++k) normals.col(t[k]) += n;
+  }
+  for (int i = 0; i < normals.cols(); ++i) {
+    const double length = normals.col(i).norm();
+    if (length > 0) normals.col(i) /= length;
+  }
+}
+
+Eigen::Vector2d EyeballModel::AnglesOf(const Eigen::Vector3d& d) {
+  return {std::atan2(d.x(), -d.y()), std::atan2(d.z(), std::hypot(d.x(), d.y()))};
+}
+
+EyeballModel EyeballModel::Load(const std::filesystem::path& obj) {
+  ObjMesh mesh = ReadObj(obj);
+  if (mesh.uvs.empty() || mesh.positions.size() < 200) Fail(ExitCode::kAssets, "{}: not the eyeball mesh", obj.string());
+  EyeballModel model;
+  const int n = static_cast<int>(mesh.positions.size());
+  model.positions_.resize(3, n);
+  model.uvs_.resize(2, n);
+  model.angles_.resize(2, n);
+  for (int i = 0; i < n; ++i) {
+    model.positions_.col(i) = 1000.0 * mesh.positions[i];
+    model.uvs_.col(i) = mesh.uvs[i];
+    model.angles_.col(i) = AnglesOf(model.positions_.col(i).normalized());
+  }
+  for (int index : topology::kLimbus) {
+    if (index >= n) Fail(ExitCode::kAssets, "{}: limbus vertex {} missing", obj.string(), index);
+  }
+  model.triangles_ = mesh.triangles;
+  OrientTriangles(model.positions_, model.triangles_, Eigen::Vector3d::Zero(), /*radial=*/true);
+  VertexNormals(model.positions_, model.triangles_, model.normals_);
+
+  model.is_cornea_.assign(n, false);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = model.positions_.col(i);
+    const bool in_front = -p.y() >= topology::kLimbusDepthMm - 1e-3;
+    const bool inside = std::hypot(p.x(), p.z()) <= topology::kLimbusRadiusMm + 1e-3;
+    if (in_front && inside) {
+      model.cornea_.push_back(i);
+      model.is_cornea_[i] = true;
+    }
+  }
+  if (model.cornea_.size() < 33) Fail(ExitCode::kAssets, "{}: found no cornea in front of the limbus", obj.string());
+  return model;
+}
+
+Eigen::Vector2d EyeballModel::RemapForIrisSize(const Eigen::Vector2d& uv, double iris_size) {
+  const Eigen::Vector2d offset = uv - Eigen::Vector2d(0.5, 0.5);
+  const double radius = offset.norm();
+  const double iris_edge = topology::kLimbusUvRadius * iris_size;
+  double remapped;
+  if (radius <= iris_edge) {
+    remapped = radius / iris_size;
+  } else if (radius < kScleraUvEdge) {
+    const double t = (radius - iris_edge) / (kScleraUvEdge - iris_edge);
+    remapped = topology::kLimbusUvRadius + t * (kScleraUvEdge - topology::kLimbusUvRadius);
+  } else {
+    return uv;
+  }
+  return radius > 0 ? Eigen::Vector2d(Eigen::Vector2d(0.5, 0.5) + offset * (remapped / radius)) : uv;
+}
+
+Eigen::Vector2d EyeballModel::RefractedUv(int vertex, const Eigen::Vector3d& view, double iris_size) const {
+  const Eigen::Vector3d p = positions_.col(vertex);
+  const Eigen::Vector3d n = normals_.col(vertex);
+  const double eta = 1.0 / kCorneaRefractiveIndex;
+  const double cos_in = std::clamp(-n.dot(view), 0.0, 1.0);
+  const double k = 1.0 - eta * eta * (1.0 - cos_in * cos_in);
+  const Eigen::Vector3d refracted = (eta * view + (eta * cos_in - std::sqrt(std::max(k, 0.0))) * n).normalized();
+  // March to the iris plane y = -depth (the ray travels toward +y, into the eye).
+  Eigen::Vector3d hit = p;
+  if (refracted.y() > 1e-6) hit = p + refracted * ((-kIrisPlaneDepthMm - p.y()) / refracted.y());
+  const Eigen::Vector2d on_iris(hit.x(), hit.z());
+  return Eigen::Vector2d(0.5, 0.5) + on_iris * (topology::kLimbusUvRadius / (topology::kLimbusRadiusMm * iris_size));
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,65 @@
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace gazedirector {
+
+// The two-sphere eyeball mesh (sclera sphere of 12.05 mm and corneal bulge),
+// in millimetres, centred at the origin and looking along -y, in the same
+// model frame as the eye region (+x toward the outer corner, +z up).
+class EyeballModel {
+ public:
+  static EyeballModel Load(const std::filesystem::path& obj);
+
+  int num_vertices() const { return static_cast<int>(positions_.cols()); }
+  const Eigen::Matrix3Xd& positions() const { return positions_; }
+  const Eigen::Matrix3Xd& normals() const { return normals_; }
+  const Eigen::Matrix2Xd& uvs() const { return uvs_; }
+  // Outward-facing, counter-clockwise seen from outside.
+  const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+  // Vertices of the cornea (in front of and inside the limbus), which show
+  // the iris through refraction.
+  const std::vector<int>& cornea() const { return cornea_; }
+  const std::vector<bool>& is_cornea() const { return is_cornea_; }
+  // Azimuth (toward +x) and elevation (toward +z) of each vertex about the
+  // centre, in radians, 0 straight ahead: the eyeball's own angular
+  // coordinates, in which the lid curves for ambient occlusion are fitted.
+  const Eigen::Matrix2Xd& angles() const { return angles_; }
+
+  // Texture coordinates for a point of the sclera's uv layout when the iris
+  // is `iris_size` times the model's: the iris disc scales, the sclera
+  // stretches to meet it.
+  static Eigen::Vector2d RemapForIrisSize(const Eigen::Vector2d& uv, double iris_size);
+
+  // The texture coordinates seen through cornea vertex `vertex` along the
+  // unit view ray `view` (from the camera toward the vertex, eyeball frame):
+  // the ray refracts at the cornea and meets the iris plane.
+  Eigen::Vector2d RefractedUv(int vertex, const Eigen::Vector3d& view, double iris_size) const;
+
+  // Angular coordinates (azimuth, elevation) of a direction in the eyeball frame.
+  static Eigen::Vector2d AnglesOf(const Eigen::Vector3d& direction);
+
+ private:
+  Eigen::Matrix3Xd positions_;
+  Eigen::Matrix3Xd normals_;
+  Eigen::Matrix2Xd uvs_;
+  Eigen::Matrix2Xd angles_;
+  std::vector<Eigen::Vector3i> triangles_;
+  std::vector<int> cornea_;
+  std::vector<bool> is_cornea_;
+};
+
+// Orients triangles counter-clockwise seen from outside: their normals point
+// along `outward_hint`, or away from the origin when `radial`. Returns the
+// number flipped.
+int OrientTriangles(const Eigen::Matrix3Xd& positions, std::vector<Eigen::Vector3i>& triangles,
+                    const Eigen::Vector3d& outward_hint, bool radial);
+
+// Area-weighted vertex normals of a triangle mesh.
+void VertexNormals(const Eigen::Matrix3Xd& positions, const std::vector<Eigen::Vector3i>& triangles,
+                   Eigen::Matrix3Xd& normals);
+
+}  // namespace gazedirector

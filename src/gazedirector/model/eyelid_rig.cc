@@ -1,0 +1,92 @@
+#include "gazedirector/model/eyelid_rig.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "gazedirector/geometry/rotation.h"
+#include "gazedirector/model/eye_region_topology.h"
+
+namespace gazedirector {
+namespace {
+
+// The cornea as a sphere through the limbus ring (5.87 mm radius, 10.75 mm
+// forward) and the corneal apex (13.03 mm forward).
+constexpr double kCorneaCentreMm = 4.33;
+constexpr double kCorneaRadiusMm = 8.70;
+constexpr double kLookDownFullDeg = 25.0;
+
+}  // namespace
+
+
+double EyelidRig::EyeballRadius(const Eigen::Vector3d& u, const Eigen::Vector3d& gaze) {
+  const double cosine = u.dot(gaze);
+  double radius = topology::kScleraRadiusMm;
+  if (cosine > 0) {
+    const double sine_squared = 1.0 - cosine * cosine;
+    const double disc = kCorneaRadiusMm * kCorneaRadiusMm - kCorneaCentreMm * kCorneaCentreMm * sine_squared;
+    if (disc > 0) radius = std::max(radius, kCorneaCentreMm * cosine + std::sqrt(disc));
+  }
+  return radius;
+}
+
+double LookDownBlend(double lid_pitch_deg) {
+  const double down = std::clamp(-lid_pitch_deg / kLookDownFullDeg, 0.0, 1.0);
+  return down * down;
+}
+
+void EyelidRig::Apply(double lid_pitch_deg, const Eigen::Vector3d& gaze, Eigen::Matrix3Xd& vertices) const {
+  using topology::kLoopColumns;
+  using topology::kLoops;
+  const double gain = lid_pitch_deg > 0 ? settings_.up_gain : settings_.down_gain;
+  const double lid_angle = DegToRad(lid_pitch_deg * gain);
+  const Eigen::Vector3d inner = vertices.col(topology::kRigInnerCorner);
+
+  std::array<std::array<Eigen::Vector3d, kLoopColumns>, kLoops.size()> offset;
+  for (std::size_t k = 0; k < kLoops.size(); ++k) {
+    const Eigen::Vector3d outer = vertices.col(kLoops[k][topology::kOuterCornerColumn]);
+    const Eigen::Vector3d axis = (outer - inner).normalized();
+    for (int c = 0; c < kLoopColumns; ++c) {
+      offset[k][c].setZero();
+      if (c == 0 || c == topology::kOuterCornerColumn || lid_angle == 0.0) continue;
+      const bool upper = c < topology::kOuterCornerColumn;
+      const double along = upper ? c / 10.0 : (kLoopColumns - c) / 10.0;  // 0 inner corner .. 1 outer corner
+      const double mid_lid = std::sin(kPi * along);
+      const double angle = lid_angle * settings_.loop_strength[k] * (upper ? 1.0 : settings_.lower_lid_ratio);
+      const Eigen::Vector3d v = vertices.col(kLoops[k][c]);
+      // The pivot slides from the corner axis toward the eyeball centre mid-lid.
+      const Eigen::Vector3d on_axis = inner + (v - inner).dot(axis) * axis;
+      const Eigen::Vector3d centre_in_plane = on_axis.dot(axis) * axis;
+      const Eigen::Vector3d pivot = (1.0 - mid_lid) * on_axis + mid_lid * centre_in_plane;
+      // The axis runs toward +x (the outer corner); a negative turn about it lifts the front of the lid.
+      const Eigen::Vector3d moved = pivot + Eigen::AngleAxisd(-angle, axis) * (v - pivot);
+      offset[k][c] = moved - v;
+    }
+  }
+  // The outer loops are relaxed toward the inner loop's offset, so the skin stretches smoothly.
+  for (std::size_t k = 4; k < kLoops.size(); ++k) {
+    const double ratio = settings_.loop_strength[k] / settings_.loop_strength[k - 1];
+    for (int c = 0; c < kLoopColumns; ++c) offset[k][c] = 0.5 * offset[k][c] + 0.5 * ratio * offset[k - 1][c];
+  }
+  for (std::size_t k = 0; k < kLoops.size(); ++k) {
+    for (int c = 0; c < kLoopColumns; ++c) vertices.col(kLoops[k][c]) += offset[k][c];
+  }
+
+  // Shrink-wrap: push each lid vertex out to its least thickness over the
+  // eyeball, and pass the push on to the loops outside it.
+  for (int c = 1; c < kLoopColumns; ++c) {
+    if (c == topology::kOuterCornerColumn) continue;
+    double push = 0;
+    for (std::size_t k = 0; k < kLoops.size(); ++k) {
+      auto v = vertices.col(kLoops[k][c]);
+      const double distance = v.norm();
+      const Eigen::Vector3d u = v / distance;
+      const double needed = EyeballRadius(u, gaze) + settings_.clearance_mm[k];
+      push = std::max(push * settings_.loop_strength[k], needed - distance);
+      if (push > 0) v += push * u;
+    }
+  }
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,112 @@
+#include "gazedirector/model/parameters.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "gazedirector/geometry/rotation.h"
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+
+ParameterMask MaskOf(std::initializer_list<Block> blocks) {
+  ParameterMask mask{};
+  for (Block block : blocks) {
+    const BlockLayout& layout = LayoutOf(block);
+    for (int i = 0; i < layout.size; ++i) mask[layout.offset + i] = true;
+  }
+  return mask;
+}
+
+ParameterMask AllParameters() {
+  ParameterMask mask;
+  mask.fill(true);
+  return mask;
+}
+
+Parameters::Parameters() {
+  values.setZero();
+  iris_size() = 0.95;
+  block<Block::kIrisColour>() = Eigen::Vector3d(0.45, 0.32, 0.22);
+  block<Block::kScleraTint>() = Eigen::Vector3d(0.85, 0.80, 0.78);
+  interocular() = 63.0;
+  block<Block::kTranslation>() = Eigen::Vector3d(0, 0, 500);
+  block<Block::kAmbient>() = Eigen::Vector3d(0.6, 0.6, 0.6);
+  block<Block::kLightColour>() = Eigen::Vector3d(0.4, 0.4, 0.4);
+  block<Block::kLightDirection>() = Eigen::Vector2d(20, 0);
+}
+
+void Parameters::set_rotation(const Eigen::Matrix3d& rotation) {
+  const Eigen::Vector3d euler = EulerXYZFromRotation(rotation);
+  block<Block::kRotation>() = Eigen::Vector3d(RadToDeg(euler.x()), RadToDeg(euler.y()), RadToDeg(euler.z()));
+}
+
+Eigen::Matrix3d Parameters::rotation() const {
+  const Eigen::Vector3d deg = rotation_deg();
+  return RotationFromEulerXYZ(Eigen::Vector3d(DegToRad(deg.x()), DegToRad(deg.y()), DegToRad(deg.z())));
+}
+
+Eigen::Vector3d Parameters::LightDirection() const {
+  const double pitch = DegToRad(light_direction_deg().x());
+  const double yaw = DegToRad(light_direction_deg().y());
+  // Toward the camera (-z) at zero; up is -y in the camera frame.
+  return Eigen::Vector3d(std::cos(pitch) * std::sin(yaw), -std::sin(pitch), -std::cos(pitch) * std::cos(yaw));
+}
+
+nlohmann::json Parameters::ToJson() const {
+  nlohmann::json json = nlohmann::json::object();
+  for (const BlockLayout& layout : kBlockLayout) {
+    if (layout.size == 1) {
+      json[std::string(layout.name)] = values[layout.offset];
+    } else {
+      nlohmann::json array = nlohmann::json::array();
+      for (int i = 0; i < layout.size; ++i) array.push_back(values[layout.offset + i]);
+      json[std::string(layout.name)] = array;
+    }
+  }
+  return json;
+}
+
+Parameters Parameters::FromJson(const nlohmann::json& json) {
+  if (!json.is_object()) Fail(ExitCode::kBadInput, "model parameters must be a JSON object");
+  Parameters parameters;
+  for (const BlockLayout& layout : kBlockLayout) {
+    const auto entry = json.find(std::string(layout.name));
+    if (entry == json.end()) continue;
+    if (layout.size == 1 && entry->is_number()) {
+      parameters.values[layout.offset] = entry->get<double>();
+      continue;
+    }
+    if (!entry->is_array() || static_cast<int>(entry->size()) != layout.size) {
+      Fail(ExitCode::kBadInput, "model parameter \"{}\" needs {} number{}", layout.name, layout.size, layout.size > 1 ? "s" : "");
+    }
+    for (int i = 0; i < layout.size; ++i) {
+      if (!(*entry)[i].is_number()) Fail(ExitCode::kBadInput, "model parameter \"{}\" holds a non-number", layout.name);
+      parameters.values[layout.offset + i] = (*entry)[i].get<double>();
+    }
+  }
+  for (const auto& [key, value] : json.items()) {
+    bool known = false;
+    for (const BlockLayout& layout : kBlockLayout) known = known || key == layout.name;
+    if (!known) Fail(ExitCode::kBadInput, "unknown model parameter \"{}\"", key);
+  }
+  if (!(parameters.interocular() > 0) || !(parameters.iris_size() > 0)) {
+    Fail(ExitCode::kBadInput, "interocular distance and iris size must be positive");
+  }
+  return parameters;
+}
+
+Block Parameters::BlockOf(int index) {
+  for (const BlockLayout& layout : kBlockLayout) {
+    if (index >= layout.offset && index < layout.offset + layout.size) return layout.block;
+  }
+  Fail(ExitCode::kInternal, "parameter index {} out of range", index);
+}
+
+std::string Parameters::NameOf(int index) {
+  const BlockLayout& layout = LayoutOf(BlockOf(index));
+  if (layout.size == 1) return std::string(layout.name);
+  return fmt::format("{}[{}]", layout.name, index - layout.offset);
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,39 @@
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace gazedirector {
+
+// One step of Loop subdivision as precomputed stencils: each new vertex is a
+// fixed weighted sum of source vertices (the assets' subdivision/ files).
+class Subdivision {
+ public:
+  // Reads new_v_idxs_<name>.txt, new_v_weights_<name>.txt and new_tris_<name>.txt.
+  static Subdivision Load(const std::filesystem::path& dir, const std::string& name, int num_source_vertices);
+
+  int num_source_vertices() const { return num_source_; }
+  int num_vertices() const { return static_cast<int>(offsets_.size()) - 1; }
+  const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+
+  // out.col(r) = Σ_k w_rk source.col(i_rk); works for positions and uvs alike.
+  template <typename Matrix>
+  void Apply(const Matrix& source, Matrix& out) const {
+    out.resize(source.rows(), num_vertices());
+    for (int r = 0; r < num_vertices(); ++r) {
+      out.col(r).setZero();
+      for (int k = offsets_[r]; k < offsets_[r + 1]; ++k) out.col(r) += weights_[k] * source.col(indices_[k]);
+    }
+  }
+
+ private:
+  int num_source_ = 0;
+  std::vector<int> offsets_;
+  std::vector<int> indices_;
+  std::vector<double> weights_;
+  std::vector<Eigen::Vector3i> triangles_;
+};
+
+}  // namespace gazedirector

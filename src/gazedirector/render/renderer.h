@@ -1,0 +1,87 @@
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "gazedirector/geometry/camera.h"
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/model/parameters.h"
+#include "gazedirector/render/rasterizer.h"
+
+namespace gazedirector {
+
+// Everything one render produces, per pixel of the target (the camera's
+// image, usually a region of interest around the eyes).
+struct RenderBuffers {
+  VisibilityBuffer visibility;        // triangle id, depth and barycentric weights
+  std::vector<int> foreground;        // covered pixel indices, in raster order
+  std::vector<float> colour;          // RGB per pixel in [0, 1]; defined on the foreground
+  std::array<int32_t, kNumParts + 1> part_offsets{};  // triangle ids of part p: [offsets[p], offsets[p + 1])
+
+  int width() const { return visibility.width(); }
+  int height() const { return visibility.height(); }
+  // The part a covered pixel shows, or -1.
+  int PartAt(int pixel) const;
+  // Pictures for people: 8-bit BGR colour over `background` (black when
+  // empty), the foreground mask (255 inside) and part ids (255 for none).
+  cv::Mat ColourImage(const cv::Mat& background = cv::Mat()) const;
+  cv::Mat MaskImage() const;
+  cv::Mat PartImage() const;
+};
+
+// Shading constants of the eyeball: ambient occlusion under the lids.
+struct EyeballShading {
+  float upper_lid_occlusion = 0.55f;  // darkening at the upper lid margin
+  float lower_lid_occlusion = 0.25f;
+  float occlusion_width_rad = 0.07f;  // how far from the margin the shadow fades (about 4 degrees)
+};
+
+// The CPU renderer of the eye-region model: poses Φ, rasterizes the four
+// parts into a visibility buffer with a depth test, then shades each covered
+// pixel once (Lambertian ambient + directional light, the skin texture from
+// the PCA with its look-down blend, the tinted, refracted eyeball with
+// ambient occlusion from the lids). One Renderer per thread; buffers are
+// reused, so steady-state rendering allocates nothing.
+class Renderer {
+ public:
+  explicit Renderer(std::shared_ptr<const EyeRegionModel> model);
+
+  // Poses, rasterizes and shades: the whole analysis-by-synthesis image.
+  void Render(const Parameters& phi, const Camera& camera, RenderBuffers& out);
+
+  // The steps of Render, for callers that change only some of them.
+  void Pose(const Parameters& phi);
+  void Rasterize(const Camera& camera, RenderBuffers& out) const;
+  void Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out);
+
+  // Interpolates per-vertex attributes (channels x vertices, per part; an
+  // empty matrix leaves that part's pixels at 0) over the pixels of `buffers`:
+  // the dense fields of the redirection's flow, for example. Returns a float
+  // image with `channels` channels.
+  static cv::Mat InterpolateAttribute(const RenderBuffers& buffers, const EyeRegionModel& model,
+                                      const std::array<Eigen::MatrixXf, kNumParts>& attributes, int channels);
+
+  const PosedModel& posed() const { return posed_; }
+  const EyeRegionModel& model() const { return *model_; }
+  EyeballShading& eyeball_shading() { return eyeball_shading_; }
+
+ private:
+  void ComposeSkinTexture(const Parameters& phi);
+
+  std::shared_ptr<const EyeRegionModel> model_;
+  PosedModel posed_;
+  PoseWorkspace workspace_;
+  mutable std::array<std::vector<ScreenVertex>, kNumParts> screen_;
+  std::array<Eigen::Matrix3Xf, kNumParts> vertex_light_;
+  RgbTexture skin_ahead_;
+  RgbTexture skin_down_;
+  Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
+  bool composed_ = false;
+  EyeballShading eyeball_shading_;
+};
+
+}  // namespace gazedirector

@@ -1,0 +1,79 @@
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gazedirector {
+
+// A square float texture with C interleaved channels and a mip chain. Texture
+// coordinates have their origin at the bottom left (OpenGL): u right, v up;
+// sampling is bilinear with clamping at the edges.
+template <int C>
+class Texture {
+ public:
+  Texture() = default;
+  explicit Texture(int size) { Resize(size); }
+
+  void Resize(int size) {
+    levels_.clear();
+    sizes_.clear();
+    for (int s = size; s >= 4; s /= 2) {
+      sizes_.push_back(s);
+      levels_.emplace_back(static_cast<std::size_t>(s) * s * C, 0.0f);
+    }
+  }
+
+  int size(int level = 0) const { return sizes_[level]; }
+  int num_levels() const { return static_cast<int>(sizes_.size()); }
+  bool empty() const { return sizes_.empty(); }
+  float* data(int level = 0) { return levels_[level].data(); }
+  const float* data(int level = 0) const { return levels_[level].data(); }
+
+  // Fills every level below 0 by 2x2 averaging.
+  void BuildMips() {
+    for (int level = 1; level < num_levels(); ++level) {
+      const int s = sizes_[level];
+      const int parent = sizes_[level - 1];
+      const float* source = levels_[level - 1].data();
+      float* target = levels_[level].data();
+      for (int y = 0; y < s; ++y) {
+        for (int x = 0; x < s; ++x) {
+          for (int c = 0; c < C; ++c) {
+            const float* p = source + (static_cast<std::size_t>(2 * y) * parent + 2 * x) * C + c;
+            target[(static_cast<std::size_t>(y) * s + x) * C + c] = 0.25f * (p[0] + p[C] + p[parent * C] + p[parent * C + C]);
+          }
+        }
+      }
+    }
+  }
+
+  // The level whose texels are about one pixel when `texels_per_pixel` texels
+  // of level 0 cover a pixel.
+  int LevelFor(float texels_per_pixel) const {
+    int level = 0;
+    while (texels_per_pixel > 1.5f && level + 1 < num_levels()) texels_per_pixel *= 0.5f, ++level;
+    return level;
+  }
+
+  void Sample(float u, float v, int level, float* out) const {
+    const int s = sizes_[level];
+    const float* texels = levels_[level].data();
+    const float x = std::clamp(u * s - 0.5f, 0.0f, s - 1.001f);
+    const float y = std::clamp((1.0f - v) * s - 0.5f, 0.0f, s - 1.001f);
+    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    const float fx = x - x0, fy = y - y0;
+    const float* row0 = texels + (static_cast<std::size_t>(y0) * s + x0) * C;
+    const float* row1 = row0 + static_cast<std::size_t>(s) * C;
+    const float w00 = (1 - fx) * (1 - fy), w01 = fx * (1 - fy), w10 = (1 - fx) * fy, w11 = fx * fy;
+    for (int c = 0; c < C; ++c) out[c] = w00 * row0[c] + w01 * row0[C + c] + w10 * row1[c] + w11 * row1[C + c];
+  }
+
+ private:
+  std::vector<int> sizes_;
+  std::vector<std::vector<float>> levels_;
+};
+
+using RgbTexture = Texture<3>;
+
+}  // namespace gazedirector
