@@ -41,6 +41,7 @@ int RunBench(const BenchOptions& options) {
          FaceTracker tracker(landmark_detector, mean_face);
          return MeasureLandmarksFps(d3, tracker);
        }},
+      {"renders_per_s", [&] { return MeasureRendersPerSecond(EyeRegionModel::Load(assets), 2, 3.0); }},
   };
   nlohmann::json results = nlohmann::json::object();
   for (const auto& [name, measure] : figures) {

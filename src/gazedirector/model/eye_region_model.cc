@@ -1,6 +1,8 @@
 #include "gazedirector/model/eye_region_model.h"
 
 #include <array>
+#include <map>
+#include <set>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -25,28 +27,31 @@ std::vector<Eigen::Vector3i> Rewound(std::vector<Eigen::Vector3i> triangles) {
 
 // The eyeball colour map with the iris desaturated to its luminance: the
 // fitted iris colour τ_iris supplies the hue.
-RgbTexture LoadEyeballTexture(const fs::path& path) {
+Rgba8Texture LoadEyeballTexture(const fs::path& path) {
   cv::Mat bgr = cv::imread(path.string(), cv::IMREAD_COLOR);
   if (bgr.empty()) Fail(ExitCode::kAssets, "cannot read the eyeball texture {}", path.string());
   cv::resize(bgr, bgr, cv::Size(kEyeballTextureSize, kEyeballTextureSize), 0, 0, cv::INTER_AREA);
-  RgbTexture texture(kEyeballTextureSize);
+  RgbaTexture texture(kEyeballTextureSize);
   float* out = texture.data();
   const double iris_radius_px = topology::kLimbusUvRadius * kEyeballTextureSize;
   for (int y = 0; y < kEyeballTextureSize; ++y) {
     for (int x = 0; x < kEyeballTextureSize; ++x) {
       const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
       const float r = p[2] / 255.0f, g = p[1] / 255.0f, b = p[0] / 255.0f;
-      const double distance = std::hypot(x + 0.5 - 0.5 * kEyeballTextureSize, y + 0.5 - 0.5 * kEyeballTextureSize);
-      const float iris = static_cast<float>(std::clamp((iris_radius_px + 3.0 - distance) / 6.0, 0.0, 1.0));
+      const double distance = std::hypot(x + 0.5 - 0.5 * kEyeballTextureSize, y + 0.5 - 0.5 * kEyeballTextureSize);  // texels
+      const float iris = static_cast<float>(std::clamp((iris_radius_px + 2.0 - distance) / 4.0, 0.0, 1.0));
       const float luminance = 0.299f * r + 0.587f * g + 0.114f * b;
-      float* texel = out + (static_cast<std::size_t>(y) * kEyeballTextureSize + x) * 3;
+      float* texel = out + (static_cast<std::size_t>(y) * kEyeballTextureSize + x) * 4;
       texel[0] = iris * luminance + (1 - iris) * r;
       texel[1] = iris * luminance + (1 - iris) * g;
       texel[2] = iris * luminance + (1 - iris) * b;
+      texel[3] = iris;
     }
   }
   texture.BuildMips();
-  return texture;
+  Rgba8Texture packed;
+  packed.Assign(texture);
+  return packed;
 }
 
 constexpr int kLidCurvePoints = 2 + static_cast<int>(topology::kUpperMargin.size());
@@ -63,6 +68,24 @@ Eigen::Vector4d FitCubic(const std::array<Eigen::Vector2d, kLidCurvePoints>& poi
     rhs += row * p.y();
   }
   return normal.ldlt().solve(rhs);
+}
+
+// The vertices on boundary edges (used by one triangle) near the eyeball: the
+// rim of the eye opening, as opposed to the outer border of the region.
+std::vector<int> OpeningRim(const Eigen::Matrix3Xd& positions, const std::vector<Eigen::Vector3i>& triangles) {
+  std::map<std::pair<int, int>, int> edge_uses;
+  for (const Eigen::Vector3i& t : triangles) {
+    for (int k = 0; k < 3; ++k) edge_uses[std::minmax(t[k], t[(k + 1) % 3])]++;
+  }
+  std::set<int> rim;
+  for (const auto& [edge, uses] : edge_uses) {
+    if (uses != 1) continue;
+    for (int v : {edge.first, edge.second}) {
+      if (positions.col(v).norm() < 2.0 * topology::kScleraRadiusMm) rim.insert(v);
+    }
+  }
+  if (rim.size() < 8) Fail(ExitCode::kAssets, "the eye region mesh has no eye opening");
+  return {rim.begin(), rim.end()};
 }
 
 }  // namespace
@@ -118,10 +141,22 @@ std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets)
   OrientTriangles(subdivided, skin, Eigen::Vector3d(0, -1, 0), /*radial=*/false);
   model->triangles_[kLeftSkin] = skin;
   model->triangles_[kRightSkin] = Rewound(skin);
+  model->opening_rim_ = OpeningRim(subdivided, skin);
+
+  model->base_triangles_ = region.triangles;
+  OrientTriangles(model->shape_.mean(), model->base_triangles_, Eigen::Vector3d(0, -1, 0), /*radial=*/false);
 
   model->eyeball_ = EyeballModel::Load(root / "mesh" / "eyeball.obj");
   model->triangles_[kLeftEyeball] = model->eyeball_.triangles();
   model->triangles_[kRightEyeball] = Rewound(model->eyeball_.triangles());
+  model->eyeball_angles_ = model->eyeball_.angles().cast<float>();
+  for (int part = 0; part < kNumParts; ++part) {
+    model->vertex_offsets_[part + 1] = model->vertex_offsets_[part] + model->num_vertices(part);
+    model->triangle_offsets_[part + 1] = model->triangle_offsets_[part] + static_cast<int>(model->triangles_[part].size());
+    for (const Eigen::Vector3i& t : model->triangles_[part]) {
+      model->all_triangles_.push_back(t.array() + model->vertex_offsets_[part]);
+    }
+  }
 
   model->skin_texture_ =
       SkinTextureModel::LoadOrBuild(root / "textures" / "skin", Assets::CacheDir(), kNumTextureModes);
@@ -146,16 +181,21 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     work.rigged = work.shape;
     rig_.Apply(phi.eyelid_pitch(), gaze_model * Eigen::Vector3d(0, -1, 0), work.rigged);
     posed.region[eye] = work.rigged;
+    // Normals of the coarse mesh, subdivided like the positions: a quarter of
+    // the cross products of the fine mesh, and as smooth.
+    VertexNormals(work.rigged, base_triangles_, work.normals);
     subdivision_.Apply(work.rigged, work.subdivided);
+    subdivision_.Apply(work.normals, work.subdivided_normals);
     const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
     const Eigen::Vector3d origin = rotation * centre_head + translation;
-    work.camera_positions.noalias() = region_to_camera * work.subdivided;
-    work.camera_positions.colwise() += origin;
-    const int skin = SkinPart(eye);
-    VertexNormals(work.camera_positions, triangles_[skin], work.normals);
-    PosedPart& skin_part = posed.parts[skin];
-    skin_part.positions = work.camera_positions.cast<float>();
-    skin_part.normals = work.normals.cast<float>();
+    PosedPart& skin_part = posed.parts[SkinPart(eye)];
+    const int count = subdivision_.num_vertices();
+    skin_part.positions.resize(3, count);
+    skin_part.normals.resize(3, count);
+    for (int i = 0; i < count; ++i) {
+      skin_part.positions.col(i) = (region_to_camera * work.subdivided.col(i) + origin).cast<float>();
+      skin_part.normals.col(i) = (region_to_camera * work.subdivided_normals.col(i).normalized()).cast<float>();
+    }
     if (skin_part.uvs.cols() != skin_uvs_.cols()) skin_part.uvs = skin_uvs_.cast<float>();
 
     // Eyeball: rotated by the gaze about its centre.

@@ -58,8 +58,8 @@ struct PoseWorkspace {
   Eigen::Matrix3Xd shape;
   Eigen::Matrix3Xd rigged;
   Eigen::Matrix3Xd subdivided;
-  Eigen::Matrix3Xd camera_positions;
   Eigen::Matrix3Xd normals;
+  Eigen::Matrix3Xd subdivided_normals;
 };
 
 // The multi-part eye-region model of the paper: two facial eye regions
@@ -78,13 +78,26 @@ class EyeRegionModel {
   const EyeballModel& eyeball() const { return eyeball_; }
   const EyelidRig& rig() const { return rig_; }
   const SkinTextureModel& skin_texture() const { return skin_texture_; }
-  // Eyeball colour (iris desaturated, so that τ_iris gives its hue).
-  const RgbTexture& eyeball_texture() const { return eyeball_texture_; }
+  // Eyeball colour (iris desaturated, so that τ_iris gives its hue) with the
+  // iris weight (1 in the iris, 0 on the sclera) in the fourth channel.
+  const Rgba8Texture& eyeball_texture() const { return eyeball_texture_; }
   // Triangles per part, counter-clockwise seen from outside (the right eye's
   // are re-wound after mirroring).
   const std::vector<Eigen::Vector3i>& triangles(int part) const { return triangles_[part]; }
   int num_vertices(int part) const { return IsEyeball(part) ? eyeball_.num_vertices() : subdivision_.num_vertices(); }
+  // All parts in one list, for the renderer: part p's vertices start at
+  // vertex_offset(p) and its triangles at triangle_offset(p); the triangles of
+  // all_triangles() index the concatenated vertices.
+  int vertex_offset(int part) const { return vertex_offsets_[part]; }
+  int triangle_offset(int part) const { return triangle_offsets_[part]; }
+  int total_vertices() const { return vertex_offsets_[kNumParts]; }
+  const std::vector<Eigen::Vector3i>& all_triangles() const { return all_triangles_; }
   const Eigen::Matrix2Xd& skin_uvs() const { return skin_uvs_; }
+  // The subdivided skin vertices on the rim of the eye opening: the eyeball
+  // can only be seen within their outline.
+  const std::vector<int>& opening_rim() const { return opening_rim_; }
+  // The eyeball's angular coordinates in single precision, for shading.
+  const Eigen::Matrix2Xf& eyeball_angles() const { return eyeball_angles_; }
 
   // The eye's gaze direction in the head frame (x: subject's left, y: down,
   // z: into the head) for pitch, yaw (degrees) and the vergence share of this eye.
@@ -104,9 +117,15 @@ class EyeRegionModel {
   EyeballModel eyeball_;
   EyelidRig rig_;
   SkinTextureModel skin_texture_;
-  RgbTexture eyeball_texture_;
+  Rgba8Texture eyeball_texture_;
   Eigen::Matrix2Xd skin_uvs_;
   std::array<std::vector<Eigen::Vector3i>, kNumParts> triangles_;
+  std::vector<Eigen::Vector3i> base_triangles_;  // the coarse facial mesh, for its normals
+  std::vector<int> opening_rim_;
+  Eigen::Matrix2Xf eyeball_angles_;
+  std::array<int, kNumParts + 1> vertex_offsets_{};
+  std::array<int, kNumParts + 1> triangle_offsets_{};
+  std::vector<Eigen::Vector3i> all_triangles_;
 };
 
 }  // namespace gazedirector

@@ -184,19 +184,24 @@ SkinTextureModel SkinTextureModel::Build(const fs::path& skin_dir, int num_modes
   return model;
 }
 
-void SkinTextureModel::Compose(const double* tau, RgbTexture& ahead, RgbTexture& look_down) const {
-  const std::size_t plane = mean_[kAhead].size();
-  RgbTexture* targets[2] = {&ahead, &look_down};
+void SkinTextureModel::Compose(const double* tau, RgbaTexture& ahead, RgbaTexture& look_down) const {
+  const std::size_t texels = static_cast<std::size_t>(kSize) * kSize;
+  RgbaTexture* targets[2] = {&ahead, &look_down};
   for (int variant = 0; variant < 2; ++variant) {
-    RgbTexture& target = *targets[variant];
+    RgbaTexture& target = *targets[variant];
     if (target.empty() || target.size() != kSize) target.Resize(kSize);
     float* out = target.data();
-    std::copy(mean_[variant].begin(), mean_[variant].end(), out);
+    const float* mean = mean_[variant].data();
+    for (std::size_t t = 0; t < texels; ++t) {
+      out[4 * t] = mean[3 * t], out[4 * t + 1] = mean[3 * t + 1], out[4 * t + 2] = mean[3 * t + 2], out[4 * t + 3] = 0;
+    }
     for (int j = 0; j < num_modes(); ++j) {
       const float weight = static_cast<float>(tau[j]);
       if (weight == 0.0f) continue;
       const float* mode = modes_[j][variant].data();
-      for (std::size_t t = 0; t < plane; ++t) out[t] += weight * mode[t];
+      for (std::size_t t = 0; t < texels; ++t) {
+        for (int c = 0; c < 3; ++c) out[4 * t + c] += weight * mode[3 * t + c];
+      }
     }
     target.BuildMips();
   }

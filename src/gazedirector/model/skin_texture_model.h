@@ -39,8 +39,9 @@ class SkinTextureModel {
   // 1 inside the mesh's uv footprint.
   const std::vector<float>& footprint() const { return footprint_; }
 
-  // Writes mean + Σ τ_j mode_j into both textures and builds their mips.
-  void Compose(const double* tau, RgbTexture& ahead, RgbTexture& look_down) const;
+  // Writes mean + Σ τ_j mode_j into both textures (RGB, the fourth channel
+  // 0) and builds their mips.
+  void Compose(const double* tau, RgbaTexture& ahead, RgbaTexture& look_down) const;
 
   // Reads a skin map as a size x size float RGB texture, the eye hole filled.
   static std::vector<float> LoadSkinMap(const std::filesystem::path& path, int size);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <vector>
 
@@ -18,13 +19,22 @@ class Subdivision {
   int num_vertices() const { return static_cast<int>(offsets_.size()) - 1; }
   const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
 
-  // out.col(r) = Σ_k w_rk source.col(i_rk); works for positions and uvs alike.
+  // out.col(r) = Σ_k w_rk source.col(i_rk); works for positions and uvs alike
+  // (any column-major matrix with a fixed number of rows).
   template <typename Matrix>
   void Apply(const Matrix& source, Matrix& out) const {
-    out.resize(source.rows(), num_vertices());
+    constexpr int kRows = Matrix::RowsAtCompileTime;
+    static_assert(kRows > 0, "the number of rows must be fixed");
+    out.resize(kRows, num_vertices());
+    const auto* in = source.data();
+    auto* target = out.data();
     for (int r = 0; r < num_vertices(); ++r) {
-      out.col(r).setZero();
-      for (int k = offsets_[r]; k < offsets_[r + 1]; ++k) out.col(r) += weights_[k] * source.col(indices_[k]);
+      typename Matrix::Scalar sum[kRows] = {};
+      for (int k = offsets_[r]; k < offsets_[r + 1]; ++k) {
+        const auto* column = in + static_cast<std::ptrdiff_t>(indices_[k]) * kRows;
+        for (int c = 0; c < kRows; ++c) sum[c] += weights_[k] * column[c];
+      }
+      for (int c = 0; c < kRows; ++c) target[static_cast<std::ptrdiff_t>(r) * kRows + c] = sum[c];
     }
   }
 

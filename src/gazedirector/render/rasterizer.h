@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -7,10 +8,26 @@
 
 namespace gazedirector {
 
-// A vertex on screen: pixel coordinates (pixel centres at integers) and depth.
+// Sub-pixel precision of the rasterizer: vertices snap to 1/16 pixel, so edge
+// functions are exact integers, shared edges are watertight and every render
+// is bit-for-bit reproducible.
+inline constexpr int kSubpixelBits = 4;
+
+// A vertex on screen, snapped: x and y in 1/16 pixels (pixel centres at
+// multiples of 16), z the depth in millimetres.
 struct ScreenVertex {
-  float x, y, z;
+  int32_t x, y;
+  float z;
 };
+
+// Snaps pixel coordinates (pixel centres at integers) and a depth. Vertices
+// beyond +-65536 px are clamped; triangles that reach them are skipped.
+inline ScreenVertex SnapVertex(float x, float y, float z) {
+  constexpr float kScale = 1 << kSubpixelBits, kClamp = 65536.0f;
+  const float sx = std::clamp(x, -kClamp, kClamp) * kScale, sy = std::clamp(y, -kClamp, kClamp) * kScale;
+  // Round half away from zero, the same on every machine.
+  return {static_cast<int32_t>(sx + (sx >= 0 ? 0.5f : -0.5f)), static_cast<int32_t>(sy + (sy >= 0 ? 0.5f : -0.5f)), z};
+}
 
 // What each pixel sees: the nearest triangle (an id the caller chose, -1 for
 // none), its depth and the barycentric weights of its vertices 1 and 2
@@ -31,8 +48,12 @@ class VisibilityBuffer {
 
   // Rasterizes the triangles that face the camera (meshes are wound
   // counter-clockwise seen from outside) with a depth test; covered pixels
-  // store id_offset + the triangle's index.
+  // store id_offset + the triangle's index. Triangles with a vertex nearer
+  // than 1 mm or beyond 8192 px are skipped.
+  // `clip` (x0, y0, x1, y1, inclusive pixels) limits drawing to a window.
   void Draw(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles, int32_t id_offset);
+  void Draw(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles, int32_t id_offset,
+            const Eigen::Vector4i& clip);
 
   // The indices of covered pixels, in raster order.
   void CollectCovered(std::vector<int>& pixels) const;
@@ -44,6 +65,10 @@ class VisibilityBuffer {
   std::vector<int32_t> triangle_;
   std::vector<float> b1_;
   std::vector<float> b2_;
+
+  template <typename Int>
+  void Fill(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1, int y0,
+            int y1, int32_t id);
 };
 
 }  // namespace gazedirector

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gazedirector/model/eye_region_topology.h"
 
@@ -12,23 +13,20 @@ namespace {
 // the skin map spans about 70 mm of face; the eyeball's limbus (5.87 mm) is
 // 0.1385 of its uv width.
 constexpr float kSkinTexelsPerMm = SkinTextureModel::kSize / 70.0f;
-constexpr float kEyeballTexelsPerMmPerSize = topology::kLimbusUvRadius / topology::kLimbusRadiusMm;
-constexpr float kIrisEdgeHalfWidthUv = 0.004f;
+constexpr float kEyeballUvPerMm = topology::kLimbusUvRadius / topology::kLimbusRadiusMm;
 
-float Cubic(const Eigen::Vector4d& c, float x) {
-  return static_cast<float>(c[0] + x * (c[1] + x * (c[2] + x * c[3])));
+using Attributes = Eigen::Matrix<float, 8, 1>;
+
+float Cubic(const Eigen::Vector4f& c, float x) { return c[0] + x * (c[1] + x * (c[2] + x * c[3])); }
+
+// Darkening that fades smoothly from `strength` at the lid margin to none at
+// `width` away from it (cheaper than an exponential, with compact support).
+float Occlusion(float distance, float strength, float width) {
+  const float t = std::max(0.0f, 1.0f - distance / width);
+  return 1.0f - strength * t * t;
 }
 
 }  // namespace
-
-int RenderBuffers::PartAt(int pixel) const {
-  const int32_t id = visibility.triangle(pixel);
-  if (id < 0) return -1;
-  for (int p = 0; p < kNumParts; ++p) {
-    if (id < part_offsets[p + 1]) return p;
-  }
-  return -1;
-}
 
 cv::Mat RenderBuffers::ColourImage(const cv::Mat& background) const {
   cv::Mat image = background.empty() ? cv::Mat(height(), width(), CV_8UC3, cv::Scalar::all(0)) : background.clone();
@@ -53,7 +51,10 @@ cv::Mat RenderBuffers::PartImage() const {
   return parts;
 }
 
-Renderer::Renderer(std::shared_ptr<const EyeRegionModel> model) : model_(std::move(model)) {}
+Renderer::Renderer(std::shared_ptr<const EyeRegionModel> model) : model_(std::move(model)) {
+  screen_.resize(static_cast<std::size_t>(model_->total_vertices()));
+  attributes_.setZero(8, model_->total_vertices());
+}
 
 void Renderer::Render(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
   Pose(phi);
@@ -63,29 +64,43 @@ void Renderer::Render(const Parameters& phi, const Camera& camera, RenderBuffers
 
 void Renderer::Pose(const Parameters& phi) { model_->Pose(phi, posed_, workspace_); }
 
-void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) const {
+void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) {
   out.visibility.Reset(camera.width, camera.height);
   const float fx = static_cast<float>(camera.fx), fy = static_cast<float>(camera.fy);
   const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
-  int32_t offset = 0;
-  // Skin first: it hides most of the eyeballs, so their pixels fail the depth test early.
-  for (int part : {kLeftSkin, kRightSkin, kLeftEyeball, kRightEyeball}) {
+  for (int part = 0; part < kNumParts; ++part) {
     const Eigen::Matrix3Xf& positions = posed_.parts[part].positions;
-    std::vector<ScreenVertex>& screen = screen_[part];
-    screen.resize(static_cast<std::size_t>(positions.cols()));
+    ScreenVertex* screen = screen_.data() + model_->vertex_offset(part);
     for (Eigen::Index i = 0; i < positions.cols(); ++i) {
       const float z = positions(2, i);
       const float inverse_z = 1.0f / z;
-      screen[i] = {fx * positions(0, i) * inverse_z + cx, fy * positions(1, i) * inverse_z + cy, z};
+      screen[i] = SnapVertex(fx * positions(0, i) * inverse_z + cx, fy * positions(1, i) * inverse_z + cy, z);
     }
   }
+  const Eigen::Vector3i* triangles = model_->all_triangles().data();
+  // Skin first: it hides most of the eyeballs, whose pixels then fail the depth test early.
   for (int part = 0; part < kNumParts; ++part) {
-    out.part_offsets[part] = offset;
-    const auto& triangles = model_->triangles(part);
-    out.visibility.Draw(screen_[part].data(), triangles.data(), static_cast<int>(triangles.size()), offset);
-    offset += static_cast<int32_t>(triangles.size());
+    const int first = model_->triangle_offset(part);
+    const int count = model_->triangle_offset(part + 1) - first;
+    out.part_offsets[part] = first;
+    if (!IsEyeball(part)) {
+      out.visibility.Draw(screen_.data(), triangles + first, count, first);
+      continue;
+    }
+    // The eyeball shows only through the eye opening: rasterize it within the
+    // opening's outline on screen.
+    const ScreenVertex* skin = screen_.data() + model_->vertex_offset(SkinPart(EyeOfPart(part)));
+    Eigen::Vector4i window(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
+                           std::numeric_limits<int>::min(), std::numeric_limits<int>::min());
+    for (int v : model_->opening_rim()) {
+      window = Eigen::Vector4i(std::min(window[0], skin[v].x), std::min(window[1], skin[v].y),
+                               std::max(window[2], skin[v].x), std::max(window[3], skin[v].y));
+    }
+    window = Eigen::Vector4i((window[0] >> kSubpixelBits) - 1, (window[1] >> kSubpixelBits) - 1,
+                             (window[2] >> kSubpixelBits) + 2, (window[3] >> kSubpixelBits) + 2);
+    out.visibility.Draw(screen_.data(), triangles + first, count, first, window);
   }
-  out.part_offsets[kNumParts] = offset;
+  out.part_offsets[kNumParts] = model_->triangle_offset(kNumParts);
   out.visibility.CollectCovered(out.foreground);
 }
 
@@ -93,74 +108,77 @@ void Renderer::ComposeSkinTexture(const Parameters& phi) {
   const Eigen::Matrix<double, kNumTextureModes, 1> tau = phi.texture();
   if (composed_ && tau == composed_for_) return;
   model_->skin_texture().Compose(tau.data(), skin_ahead_, skin_down_);
+  skin_ahead8_.Assign(skin_ahead_);
+  skin_down8_.Assign(skin_down_);
   composed_for_ = tau;
   composed_ = true;
 }
 
 void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
   ComposeSkinTexture(phi);
+  // Per-vertex attributes: texture coordinates, Lambertian light, and the
+  // eyeball's angular coordinates.
   const Eigen::Vector3f light = phi.LightDirection().cast<float>();
   const Eigen::Vector3f ambient = phi.ambient().cast<float>();
   const Eigen::Vector3f light_colour = phi.light_colour().cast<float>();
   for (int part = 0; part < kNumParts; ++part) {
-    const Eigen::Matrix3Xf& normals = posed_.parts[part].normals;
-    Eigen::Matrix3Xf& shade = vertex_light_[part];
-    shade.resize(3, normals.cols());
-    for (Eigen::Index i = 0; i < normals.cols(); ++i) {
-      shade.col(i) = ambient + light_colour * std::max(0.0f, normals.col(i).dot(light));
+    const PosedPart& posed = posed_.parts[part];
+    const int offset = model_->vertex_offset(part);
+    for (Eigen::Index i = 0; i < posed.normals.cols(); ++i) {
+      auto a = attributes_.col(offset + i);
+      a.head<2>() = posed.uvs.col(i);
+      a.segment<3>(2) = ambient + light_colour * std::max(0.0f, posed.normals.col(i).dot(light));
+      if (IsEyeball(part)) a.segment<2>(5) = model_->eyeball_angles().col(i);
     }
   }
 
   // Mip levels that keep texels about a pixel in size.
   const float pixels_per_mm = static_cast<float>(camera.fx / std::max(posed_.eyes[0].centre.z(), 1.0));
-  const int skin_level = skin_ahead_.LevelFor(kSkinTexelsPerMm / pixels_per_mm);
-  const RgbTexture& eyeball_texture = model_->eyeball_texture();
-  const int eyeball_level =
-      eyeball_texture.LevelFor(eyeball_texture.size() * kEyeballTexelsPerMmPerSize / pixels_per_mm);
+  const int skin_level = skin_ahead8_.LevelFor(kSkinTexelsPerMm / pixels_per_mm);
+  const Rgba8Texture& eyeball_texture = model_->eyeball_texture();
+  const int eyeball_level = eyeball_texture.LevelFor(eyeball_texture.size() * kEyeballUvPerMm / pixels_per_mm);
   const float blend = posed_.look_down_blend;
   const Eigen::Vector3f iris = phi.iris_colour().cast<float>();
   const Eigen::Vector3f sclera = phi.sclera_tint().cast<float>();
-  const Eigen::Matrix2Xd& eyeball_angles = model_->eyeball().angles();
-  const float iris_edge = static_cast<float>(topology::kLimbusUvRadius);
+  const Eigen::Vector4f upper_lid[2] = {posed_.eyes[0].upper_lid.cast<float>(), posed_.eyes[1].upper_lid.cast<float>()};
+  const Eigen::Vector4f lower_lid[2] = {posed_.eyes[0].lower_lid.cast<float>(), posed_.eyes[1].lower_lid.cast<float>()};
+  const EyeballShading shading = eyeball_shading_;
+  const Eigen::Vector3i* triangles = model_->all_triangles().data();
 
   out.colour.resize(3 * static_cast<std::size_t>(out.visibility.size()));
   const VisibilityBuffer& vis = out.visibility;
-  for (int pixel : out.foreground) {
-    const int part = out.PartAt(pixel);
-    const Eigen::Vector3i& t = model_->triangles(part)[vis.triangle(pixel) - out.part_offsets[part]];
+  // Two passes: first interpolate every pixel's attributes, then sample the
+  // textures. Separating the chains of dependent loads lets the processor
+  // overlap more of them.
+  const std::size_t count = out.foreground.size();
+  pixel_attributes_.resize(8, static_cast<Eigen::Index>(count));
+  for (std::size_t i = 0; i < count; ++i) {
+    const int pixel = out.foreground[i];
+    const Eigen::Vector3i& t = triangles[vis.triangle(pixel)];
     const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
-    const PosedPart& posed = posed_.parts[part];
-    const Eigen::Vector2f uv = b0 * posed.uvs.col(t[0]) + b1 * posed.uvs.col(t[1]) + b2 * posed.uvs.col(t[2]);
-    const Eigen::Vector3f& s0 = vertex_light_[part].col(t[0]);
-    const Eigen::Vector3f shade = b0 * s0 + b1 * vertex_light_[part].col(t[1]) + b2 * vertex_light_[part].col(t[2]);
-    float albedo[3];
+    pixel_attributes_.col(static_cast<Eigen::Index>(i)) =
+        b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const int pixel = out.foreground[i];
+    const int part = out.PartAt(pixel);
+    const Attributes a = pixel_attributes_.col(static_cast<Eigen::Index>(i));
+    Eigen::Vector3f albedo;
     if (!IsEyeball(part)) {
-      float ahead[3], down[3];
-      skin_ahead_.Sample(uv.x(), uv.y(), skin_level, ahead);
-      if (blend > 0) {
-        skin_down_.Sample(uv.x(), uv.y(), skin_level, down);
-        for (int c = 0; c < 3; ++c) albedo[c] = ahead[c] + blend * (down[c] - ahead[c]);
-      } else {
-        std::copy(ahead, ahead + 3, albedo);
-      }
+      albedo = skin_ahead8_.Sample(a[0], a[1], skin_level).head<3>();
+      if (blend > 0) albedo += blend * (skin_down8_.Sample(a[0], a[1], skin_level).head<3>() - albedo);
     } else {
-      float base[3];
-      eyeball_texture.Sample(uv.x(), uv.y(), eyeball_level, base);
-      const float radius = std::hypot(uv.x() - 0.5f, uv.y() - 0.5f);
-      const float w = std::clamp((iris_edge + kIrisEdgeHalfWidthUv - radius) / (2 * kIrisEdgeHalfWidthUv), 0.0f, 1.0f);
+      const Eigen::Vector4f base = eyeball_texture.Sample(a[0], a[1], eyeball_level);
+      const float w = base[3];
       // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
-      const PosedEye& eye = posed_.eyes[EyeOfPart(part)];
-      const float azimuth = static_cast<float>(b0 * eyeball_angles(0, t[0]) + b1 * eyeball_angles(0, t[1]) + b2 * eyeball_angles(0, t[2]));
-      const float elevation = static_cast<float>(b0 * eyeball_angles(1, t[0]) + b1 * eyeball_angles(1, t[1]) + b2 * eyeball_angles(1, t[2]));
-      const float below_upper = std::max(0.0f, Cubic(eye.upper_lid, azimuth) - elevation);
-      const float above_lower = std::max(0.0f, elevation - Cubic(eye.lower_lid, azimuth));
-      const float width = eyeball_shading_.occlusion_width_rad;
-      const float occlusion = (1.0f - eyeball_shading_.upper_lid_occlusion * std::exp(-below_upper / width)) *
-                              (1.0f - eyeball_shading_.lower_lid_occlusion * std::exp(-above_lower / width));
-      for (int c = 0; c < 3; ++c) albedo[c] = base[c] * (w * iris[c] + (1 - w) * sclera[c]) * occlusion;
+      const int eye = EyeOfPart(part);
+      const float below_upper = std::max(0.0f, Cubic(upper_lid[eye], a[5]) - a[6]);
+      const float above_lower = std::max(0.0f, a[6] - Cubic(lower_lid[eye], a[5]));
+      const float occlusion = Occlusion(below_upper, shading.upper_lid_occlusion, shading.occlusion_width_rad) *
+                              Occlusion(above_lower, shading.lower_lid_occlusion, shading.occlusion_width_rad);
+      albedo = base.head<3>().cwiseProduct(w * iris + (1 - w) * sclera) * occlusion;
     }
-    float* rgb = &out.colour[3 * static_cast<std::size_t>(pixel)];
-    for (int c = 0; c < 3; ++c) rgb[c] = albedo[c] * shade[c];
+    Eigen::Map<Eigen::Vector3f>(&out.colour[3 * static_cast<std::size_t>(pixel)]) = albedo.cwiseProduct(a.segment<3>(2));
   }
 }
 
@@ -173,7 +191,7 @@ cv::Mat Renderer::InterpolateAttribute(const RenderBuffers& buffers, const EyeRe
     const int part = buffers.PartAt(pixel);
     const Eigen::MatrixXf& values = attributes[part];
     if (values.size() == 0) continue;
-    const Eigen::Vector3i& t = model.triangles(part)[vis.triangle(pixel) - buffers.part_offsets[part]];
+    const Eigen::Vector3i t = model.all_triangles()[vis.triangle(pixel)].array() - model.vertex_offset(part);
     const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
     float* out = data + static_cast<std::size_t>(pixel) * channels;
     for (int c = 0; c < channels; ++c) out[c] = b0 * values(c, t[0]) + b1 * values(c, t[1]) + b2 * values(c, t[2]);

@@ -17,7 +17,7 @@ namespace gazedirector {
 // Everything one render produces, per pixel of the target (the camera's
 // image, usually a region of interest around the eyes).
 struct RenderBuffers {
-  VisibilityBuffer visibility;        // triangle id, depth and barycentric weights
+  VisibilityBuffer visibility;        // triangle id (into EyeRegionModel::all_triangles), depth, barycentrics
   std::vector<int> foreground;        // covered pixel indices, in raster order
   std::vector<float> colour;          // RGB per pixel in [0, 1]; defined on the foreground
   std::array<int32_t, kNumParts + 1> part_offsets{};  // triangle ids of part p: [offsets[p], offsets[p + 1])
@@ -25,7 +25,11 @@ struct RenderBuffers {
   int width() const { return visibility.width(); }
   int height() const { return visibility.height(); }
   // The part a covered pixel shows, or -1.
-  int PartAt(int pixel) const;
+  int PartAt(int pixel) const {
+    const int32_t id = visibility.triangle(pixel);
+    if (id < 0) return -1;
+    return (id >= part_offsets[1]) + (id >= part_offsets[2]) + (id >= part_offsets[3]);
+  }
   // Pictures for people: 8-bit BGR colour over `background` (black when
   // empty), the foreground mask (255 inside) and part ids (255 for none).
   cv::Mat ColourImage(const cv::Mat& background = cv::Mat()) const;
@@ -37,7 +41,7 @@ struct RenderBuffers {
 struct EyeballShading {
   float upper_lid_occlusion = 0.55f;  // darkening at the upper lid margin
   float lower_lid_occlusion = 0.25f;
-  float occlusion_width_rad = 0.07f;  // how far from the margin the shadow fades (about 4 degrees)
+  float occlusion_width_rad = 0.10f;  // how far from the margin the shadow fades (about 6 degrees)
 };
 
 // The CPU renderer of the eye-region model: poses Φ, rasterizes the four
@@ -55,7 +59,7 @@ class Renderer {
 
   // The steps of Render, for callers that change only some of them.
   void Pose(const Parameters& phi);
-  void Rasterize(const Camera& camera, RenderBuffers& out) const;
+  void Rasterize(const Camera& camera, RenderBuffers& out);
   void Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out);
 
   // Interpolates per-vertex attributes (channels x vertices, per part; an
@@ -75,10 +79,15 @@ class Renderer {
   std::shared_ptr<const EyeRegionModel> model_;
   PosedModel posed_;
   PoseWorkspace workspace_;
-  mutable std::array<std::vector<ScreenVertex>, kNumParts> screen_;
-  std::array<Eigen::Matrix3Xf, kNumParts> vertex_light_;
-  RgbTexture skin_ahead_;
-  RgbTexture skin_down_;
+  std::vector<ScreenVertex> screen_;  // all parts' vertices, concatenated
+  // Per vertex, packed for one vector load: u, v, light r, g, b, and the
+  // eyeball's azimuth and elevation.
+  Eigen::Matrix<float, 8, Eigen::Dynamic> attributes_;
+  Eigen::Matrix<float, 8, Eigen::Dynamic> pixel_attributes_;  // interpolated, per foreground pixel
+  RgbaTexture skin_ahead_;  // the composed skin texture, float
+  RgbaTexture skin_down_;
+  Rgba8Texture skin_ahead8_;  // and as sampled when shading
+  Rgba8Texture skin_down8_;
   Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
   bool composed_ = false;
   EyeballShading eyeball_shading_;
