@@ -27,7 +27,7 @@ std::vector<Eigen::Vector3i> Rewound(std::vector<Eigen::Vector3i> triangles) {
 
 // The eyeball colour map with the iris desaturated to its luminance: the
 // fitted iris colour τ_iris supplies the hue.
-Rgba8Texture LoadEyeballTexture(const fs::path& path) {
+RgbaTexture LoadEyeballTexture(const fs::path& path) {
   cv::Mat bgr = cv::imread(path.string(), cv::IMREAD_COLOR);
   if (bgr.empty()) Fail(ExitCode::kAssets, "cannot read the eyeball texture {}", path.string());
   cv::resize(bgr, bgr, cv::Size(kEyeballTextureSize, kEyeballTextureSize), 0, 0, cv::INTER_AREA);
@@ -49,9 +49,7 @@ Rgba8Texture LoadEyeballTexture(const fs::path& path) {
     }
   }
   texture.BuildMips();
-  Rgba8Texture packed;
-  packed.Assign(texture);
-  return packed;
+  return texture;
 }
 
 constexpr int kLidCurvePoints = 2 + static_cast<int>(topology::kUpperMargin.size());
@@ -184,21 +182,25 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     // Normals of the coarse mesh, subdivided like the positions: a quarter of
     // the cross products of the fine mesh, and as smooth.
     VertexNormals(work.rigged, base_triangles_, work.normals);
-    subdivision_.Apply(work.rigged, work.subdivided);
-    subdivision_.Apply(work.normals, work.subdivided_normals);
-    const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
-    const Eigen::Vector3d origin = rotation * centre_head + translation;
+    work.coarse.resize(8, work.rigged.cols());
+    work.coarse.topRows<3>() = work.rigged.cast<float>();
+    work.coarse.middleRows<3>(3) = work.normals.cast<float>();
+    work.coarse.bottomRows<2>().setZero();
+    subdivision_.Apply(work.coarse, work.fine);
+    const Eigen::Matrix3f region_to_camera = (rotation * model_to_head).cast<float>();
+    const Eigen::Vector3f origin = (rotation * centre_head + translation).cast<float>();
     PosedPart& skin_part = posed.parts[SkinPart(eye)];
     const int count = subdivision_.num_vertices();
     skin_part.positions.resize(3, count);
     skin_part.normals.resize(3, count);
     for (int i = 0; i < count; ++i) {
-      skin_part.positions.col(i) = (region_to_camera * work.subdivided.col(i) + origin).cast<float>();
-      skin_part.normals.col(i) = (region_to_camera * work.subdivided_normals.col(i).normalized()).cast<float>();
+      skin_part.positions.col(i) = region_to_camera * work.fine.col(i).head<3>() + origin;
+      skin_part.normals.col(i) = region_to_camera * work.fine.col(i).segment<3>(3).normalized();
     }
     if (skin_part.uvs.cols() != skin_uvs_.cols()) skin_part.uvs = skin_uvs_.cast<float>();
 
     // Eyeball: rotated by the gaze about its centre.
+    const Eigen::Vector3d eyeball_origin = rotation * centre_head + translation;
     const Eigen::Matrix3d eyeball_to_camera = rotation * gaze_head * model_to_head;
     PosedPart& ball = posed.parts[EyeballPart(eye)];
     const int balls = eyeball_.num_vertices();
@@ -206,24 +208,28 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     ball.normals.resize(3, balls);
     ball.uvs.resize(2, balls);
     for (int i = 0; i < balls; ++i) {
-      ball.positions.col(i) = (eyeball_to_camera * eyeball_.positions().col(i) + origin).cast<float>();
+      ball.positions.col(i) = (eyeball_to_camera * eyeball_.positions().col(i) + eyeball_origin).cast<float>();
       ball.normals.col(i) = (eyeball_to_camera * eyeball_.normals().col(i)).cast<float>();
     }
+    // Texture coordinates: the sclera's depend only on the iris size (kept
+    // from the last pose when it has not changed), the cornea's on the view.
     const double iris_size = phi.iris_size();
-    for (int i = 0; i < eyeball_.num_vertices(); ++i) {
-      Eigen::Vector2d uv;
-      if (eyeball_.is_cornea()[i]) {
-        const Eigen::Vector3d view = eyeball_to_camera.transpose() * ball.positions.col(i).cast<double>().normalized();
-        uv = eyeball_.RefractedUv(i, view, iris_size);
-      } else {
-        uv = EyeballModel::RemapForIrisSize(eyeball_.uvs().col(i), iris_size);
+    if (work.remapped_iris_size != iris_size) {
+      work.remapped_uvs.resize(2, balls);
+      for (int i = 0; i < balls; ++i) {
+        work.remapped_uvs.col(i) = EyeballModel::RemapForIrisSize(eyeball_.uvs().col(i), iris_size).cast<float>();
       }
-      ball.uvs.col(i) = uv.cast<float>();
+      work.remapped_iris_size = iris_size;
+    }
+    ball.uvs = work.remapped_uvs;
+    for (int i : eyeball_.cornea()) {
+      const Eigen::Vector3d view = eyeball_to_camera.transpose() * ball.positions.col(i).cast<double>().normalized();
+      ball.uvs.col(i) = eyeball_.RefractedUv(i, view, iris_size).cast<float>();
     }
 
     // The lid margins in the eyeball's angular coordinates.
     PosedEye& state = posed.eyes[eye];
-    state.centre = origin;
+    state.centre = eyeball_origin;
     state.gaze = rotation * gaze_head * Eigen::Vector3d(0, 0, -1);
     state.eyeball_to_camera = eyeball_to_camera;
     std::array<Eigen::Vector2d, kLidCurvePoints> upper, lower;

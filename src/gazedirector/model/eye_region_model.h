@@ -57,9 +57,12 @@ struct PosedModel {
 struct PoseWorkspace {
   Eigen::Matrix3Xd shape;
   Eigen::Matrix3Xd rigged;
-  Eigen::Matrix3Xd subdivided;
   Eigen::Matrix3Xd normals;
-  Eigen::Matrix3Xd subdivided_normals;
+  // Position and normal per vertex, padded to 8 floats for vector loads.
+  Eigen::Matrix<float, 8, Eigen::Dynamic> coarse;
+  Eigen::Matrix<float, 8, Eigen::Dynamic> fine;    // the same, subdivided
+  double remapped_iris_size = -1;                  // the iris size remapped_uvs were made for
+  Eigen::Matrix2Xf remapped_uvs;                   // eyeball uvs for that iris size
 };
 
 // The multi-part eye-region model of the paper: two facial eye regions
@@ -80,7 +83,7 @@ class EyeRegionModel {
   const SkinTextureModel& skin_texture() const { return skin_texture_; }
   // Eyeball colour (iris desaturated, so that τ_iris gives its hue) with the
   // iris weight (1 in the iris, 0 on the sclera) in the fourth channel.
-  const Rgba8Texture& eyeball_texture() const { return eyeball_texture_; }
+  const RgbaTexture& eyeball_texture() const { return eyeball_texture_; }
   // Triangles per part, counter-clockwise seen from outside (the right eye's
   // are re-wound after mirroring).
   const std::vector<Eigen::Vector3i>& triangles(int part) const { return triangles_[part]; }
@@ -117,7 +120,7 @@ class EyeRegionModel {
   EyeballModel eyeball_;
   EyelidRig rig_;
   SkinTextureModel skin_texture_;
-  Rgba8Texture eyeball_texture_;
+  RgbaTexture eyeball_texture_;
   Eigen::Matrix2Xd skin_uvs_;
   std::array<std::vector<Eigen::Vector3i>, kNumParts> triangles_;
   std::vector<Eigen::Vector3i> base_triangles_;  // the coarse facial mesh, for its normals

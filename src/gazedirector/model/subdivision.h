@@ -26,15 +26,14 @@ class Subdivision {
     constexpr int kRows = Matrix::RowsAtCompileTime;
     static_assert(kRows > 0, "the number of rows must be fixed");
     out.resize(kRows, num_vertices());
-    const auto* in = source.data();
-    auto* target = out.data();
+    using Scalar = typename Matrix::Scalar;
+    using Column = Eigen::Matrix<Scalar, kRows, 1>;
     for (int r = 0; r < num_vertices(); ++r) {
-      typename Matrix::Scalar sum[kRows] = {};
+      Column sum = Column::Zero();
       for (int k = offsets_[r]; k < offsets_[r + 1]; ++k) {
-        const auto* column = in + static_cast<std::ptrdiff_t>(indices_[k]) * kRows;
-        for (int c = 0; c < kRows; ++c) sum[c] += weights_[k] * column[c];
+        sum += static_cast<Scalar>(weights_[k]) * Eigen::Map<const Column>(source.data() + static_cast<std::ptrdiff_t>(indices_[k]) * kRows);
       }
-      for (int c = 0; c < kRows; ++c) target[static_cast<std::ptrdiff_t>(r) * kRows + c] = sum[c];
+      Eigen::Map<Column>(out.data() + static_cast<std::ptrdiff_t>(r) * kRows) = sum;
     }
   }
 

@@ -4,16 +4,21 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__AVX512F__) && defined(__AVX512VL__)
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
 #include <immintrin.h>
 #define GAZEDIRECTOR_AVX512 1
 #endif
+
+// This file is compiled with -ffp-contract=off: the scalar and vector paths
+// must round identically, so that every build renders bit for bit the same.
 
 namespace gazedirector {
 namespace {
 
 constexpr int32_t kOne = 1 << kSubpixelBits;
 constexpr int32_t kMaxCoordinate = 8192 * kOne;  // farther vertices mean an off-screen model
+// Triangles narrower and shorter than this keep every edge value in 32 bits.
+constexpr int32_t kSmall = 1024 * kOne;
 constexpr float kNearDepth = 1.0f;  // mm
 
 // Twice the signed area of (a, b, p), positive when p lies to the right of
@@ -24,7 +29,7 @@ int64_t Edge(const ScreenVertex& a, const ScreenVertex& b, int64_t px, int64_t p
 
 // Pixel centres exactly on an edge belong to the triangle only for top and
 // left edges, so that no pixel is drawn twice or missed along a shared edge.
-int64_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) {
+int32_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) {
   const int32_t dy = b.y - a.y, dx = b.x - a.x;
   return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1;
 }
@@ -33,6 +38,18 @@ int32_t FloorPixel(int32_t v) { return v >> kSubpixelBits; }  // arithmetic shif
 int32_t CeilPixel(int32_t v) { return -((-v) >> kSubpixelBits); }
 
 }  // namespace
+
+// A small triangle ready to fill: edge values (biased by the top-left rule)
+// at its first pixel centre, their steps, and depth interpolation.
+struct VisibilityBuffer::Prepared {
+  int32_t row[3];
+  int32_t step_x[3];
+  int32_t step_y[3];
+  int32_t bias1, bias2;
+  float inverse_area, z0, dz1, dz2;
+  int x0, x1, y0, y1;
+  int32_t id;
+};
 
 void VisibilityBuffer::Reset(int width, int height) {
   width_ = width;
@@ -44,87 +61,36 @@ void VisibilityBuffer::Reset(int width, int height) {
   b2_.resize(n);
 }
 
-template <typename Int>
-void VisibilityBuffer::Fill(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0,
-                            int x1, int y0, int y1, int32_t id) {
-  const float inverse_area = 1.0f / static_cast<float>(area);
-  const Int bias0 = static_cast<Int>(TopLeftBias(b, c)), bias1 = static_cast<Int>(TopLeftBias(c, a)),
-            bias2 = static_cast<Int>(TopLeftBias(a, b));
-  // Edge values at the first pixel centre and their steps along x and y.
-  const int64_t px = static_cast<int64_t>(x0) * kOne, py = static_cast<int64_t>(y0) * kOne;
-  Int row0 = static_cast<Int>(Edge(b, c, px, py)) + bias0;
-  Int row1 = static_cast<Int>(Edge(c, a, px, py)) + bias1;
-  Int row2 = static_cast<Int>(Edge(a, b, px, py)) + bias2;
-  const Int step_x0 = static_cast<Int>(c.y - b.y) * kOne, step_x1 = static_cast<Int>(a.y - c.y) * kOne,
-            step_x2 = static_cast<Int>(b.y - a.y) * kOne;
-  const Int step_y0 = static_cast<Int>(b.x - c.x) * kOne, step_y1 = static_cast<Int>(c.x - a.x) * kOne,
-            step_y2 = static_cast<Int>(a.x - b.x) * kOne;
-  const float dz1 = b.z - a.z, dz2 = c.z - a.z;
-  for (int y = y0; y <= y1; ++y) {
-    Int w0 = row0, w1 = row1, w2 = row2;
-    int pixel = y * width_ + x0;
-    for (int x = x0; x <= x1; ++x, ++pixel) {
-      if ((w0 | w1 | w2) >= 0) {
-        // Undo the bias for exact weights.
-        const float b1 = static_cast<float>(w1 - bias1) * inverse_area;
-        const float b2 = static_cast<float>(w2 - bias2) * inverse_area;
-        const float z = a.z + b1 * dz1 + b2 * dz2;
-        if (z < depth_[pixel]) {
-          depth_[pixel] = z;
-          triangle_[pixel] = id;
-          b1_[pixel] = b1;
-          b2_[pixel] = b2;
-        }
-      }
-      w0 += step_x0, w1 += step_x1, w2 += step_x2;
-    }
-    row0 += step_y0, row1 += step_y1, row2 += step_y2;
-  }
-}
-
+void VisibilityBuffer::FillRows(const Prepared& p) {
+  int32_t row0 = p.row[0], row1 = p.row[1], row2 = p.row[2];
 #if defined(GAZEDIRECTOR_AVX512)
-// Eight pixels of a row at a time with AVX-512 masks (AVX2's masked stores
-// are microcoded and slow on AMD): the same integer edge tests and the same
-// float arithmetic as the scalar loop, so the results are identical.
-template <>
-void VisibilityBuffer::Fill<int32_t>(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area,
-                                     int x0, int x1, int y0, int y1, int32_t id) {
-  const float inverse_area = 1.0f / static_cast<float>(area);
-  const int32_t bias0 = static_cast<int32_t>(TopLeftBias(b, c)), bias1 = static_cast<int32_t>(TopLeftBias(c, a)),
-                bias2 = static_cast<int32_t>(TopLeftBias(a, b));
-  const int64_t px = static_cast<int64_t>(x0) * kOne, py = static_cast<int64_t>(y0) * kOne;
-  int32_t row0 = static_cast<int32_t>(Edge(b, c, px, py)) + bias0;
-  int32_t row1 = static_cast<int32_t>(Edge(c, a, px, py)) + bias1;
-  int32_t row2 = static_cast<int32_t>(Edge(a, b, px, py)) + bias2;
-  const int32_t step_x0 = (c.y - b.y) * kOne, step_x1 = (a.y - c.y) * kOne, step_x2 = (b.y - a.y) * kOne;
-  const int32_t step_y0 = (b.x - c.x) * kOne, step_y1 = (c.x - a.x) * kOne, step_y2 = (a.x - b.x) * kOne;
+  // Eight pixels of a row at a time with AVX-512 masks (AVX2's masked stores
+  // are microcoded and slow on AMD).
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const __m256i lane_x0 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(step_x0));
-  const __m256i lane_x1 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(step_x1));
-  const __m256i lane_x2 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(step_x2));
-  const __m256i eight_x0 = _mm256_set1_epi32(8 * step_x0), eight_x1 = _mm256_set1_epi32(8 * step_x1),
-                eight_x2 = _mm256_set1_epi32(8 * step_x2);
-  const __m256i unbias1 = _mm256_set1_epi32(bias1), unbias2 = _mm256_set1_epi32(bias2);
-  const __m256 inverse = _mm256_set1_ps(inverse_area);
-  const __m256 z0 = _mm256_set1_ps(a.z), dz1 = _mm256_set1_ps(b.z - a.z), dz2 = _mm256_set1_ps(c.z - a.z);
-  const __m256i ids = _mm256_set1_epi32(id);
+  const __m256i lane_x0 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(p.step_x[0]));
+  const __m256i lane_x1 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(p.step_x[1]));
+  const __m256i lane_x2 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(p.step_x[2]));
+  const __m256i eight_x0 = _mm256_set1_epi32(8 * p.step_x[0]), eight_x1 = _mm256_set1_epi32(8 * p.step_x[1]),
+                eight_x2 = _mm256_set1_epi32(8 * p.step_x[2]);
+  const __m256i unbias1 = _mm256_set1_epi32(p.bias1), unbias2 = _mm256_set1_epi32(p.bias2);
+  const __m256 inverse = _mm256_set1_ps(p.inverse_area);
+  const __m256 z0 = _mm256_set1_ps(p.z0), dz1 = _mm256_set1_ps(p.dz1), dz2 = _mm256_set1_ps(p.dz2);
+  const __m256i ids = _mm256_set1_epi32(p.id);
   const __m256i minus_one = _mm256_set1_epi32(-1);
-  for (int y = y0; y <= y1; ++y) {
+  for (int y = p.y0; y <= p.y1; ++y) {
     __m256i w0 = _mm256_add_epi32(_mm256_set1_epi32(row0), lane_x0);
     __m256i w1 = _mm256_add_epi32(_mm256_set1_epi32(row1), lane_x1);
     __m256i w2 = _mm256_add_epi32(_mm256_set1_epi32(row2), lane_x2);
     const int row_start = y * width_;
-    for (int x = x0; x <= x1; x += 8) {
-      const __mmask8 in_row = static_cast<__mmask8>(x1 - x >= 7 ? 0xFF : (1u << (x1 - x + 1)) - 1);
-      const __mmask8 mask = _mm256_mask_cmpgt_epi32_mask(in_row, _mm256_or_si256(_mm256_or_si256(w0, w1), w2), minus_one);
-      if (mask != 0) {
+    for (int x = p.x0; x <= p.x1; x += 8) {
+      const __mmask8 in_row = static_cast<__mmask8>(p.x1 - x >= 7 ? 0xFF : (1u << (p.x1 - x + 1)) - 1);
+      const __mmask8 inside = _mm256_mask_cmpgt_epi32_mask(in_row, _mm256_or_si256(_mm256_or_si256(w0, w1), w2), minus_one);
+      if (inside != 0) {
         const __m256 b1 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w1, unbias1)), inverse);
         const __m256 b2 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w2, unbias2)), inverse);
-        // a.z + b1 dz1 + b2 dz2, in the scalar loop's order (no fused multiply-add).
         const __m256 z = _mm256_add_ps(_mm256_add_ps(z0, _mm256_mul_ps(b1, dz1)), _mm256_mul_ps(b2, dz2));
         float* depth = depth_.data() + row_start + x;
-        const __m256 current = _mm256_maskz_loadu_ps(mask, depth);
-        const __mmask8 nearer = _mm256_mask_cmp_ps_mask(mask, z, current, _CMP_LT_OQ);
+        const __mmask8 nearer = _mm256_mask_cmp_ps_mask(inside, z, _mm256_maskz_loadu_ps(inside, depth), _CMP_LT_OQ);
         if (nearer != 0) {
           _mm256_mask_storeu_ps(depth, nearer, z);
           _mm256_mask_storeu_epi32(triangle_.data() + row_start + x, nearer, ids);
@@ -134,10 +100,57 @@ void VisibilityBuffer::Fill<int32_t>(const ScreenVertex& a, const ScreenVertex& 
       }
       w0 = _mm256_add_epi32(w0, eight_x0), w1 = _mm256_add_epi32(w1, eight_x1), w2 = _mm256_add_epi32(w2, eight_x2);
     }
+    row0 += p.step_y[0], row1 += p.step_y[1], row2 += p.step_y[2];
+  }
+#else
+  for (int y = p.y0; y <= p.y1; ++y) {
+    int32_t w0 = row0, w1 = row1, w2 = row2;
+    int pixel = y * width_ + p.x0;
+    for (int x = p.x0; x <= p.x1; ++x, ++pixel) {
+      if ((w0 | w1 | w2) >= 0) {
+        const float b1 = static_cast<float>(w1 - p.bias1) * p.inverse_area;
+        const float b2 = static_cast<float>(w2 - p.bias2) * p.inverse_area;
+        const float z = p.z0 + b1 * p.dz1 + b2 * p.dz2;
+        if (z < depth_[pixel]) {
+          depth_[pixel] = z, triangle_[pixel] = p.id, b1_[pixel] = b1, b2_[pixel] = b2;
+        }
+      }
+      w0 += p.step_x[0], w1 += p.step_x[1], w2 += p.step_x[2];
+    }
+    row0 += p.step_y[0], row1 += p.step_y[1], row2 += p.step_y[2];
+  }
+#endif
+}
+
+// A triangle of any size (up to the coordinate limit), with 64-bit edge values.
+void VisibilityBuffer::FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area,
+                                 int x0, int x1, int y0, int y1, int32_t id) {
+  const float inverse_area = 1.0f / static_cast<float>(area);
+  const int64_t bias0 = TopLeftBias(b, c), bias1 = TopLeftBias(c, a), bias2 = TopLeftBias(a, b);
+  const int64_t px = static_cast<int64_t>(x0) * kOne, py = static_cast<int64_t>(y0) * kOne;
+  int64_t row0 = Edge(b, c, px, py) + bias0, row1 = Edge(c, a, px, py) + bias1, row2 = Edge(a, b, px, py) + bias2;
+  const int64_t step_x0 = static_cast<int64_t>(c.y - b.y) * kOne, step_x1 = static_cast<int64_t>(a.y - c.y) * kOne,
+                step_x2 = static_cast<int64_t>(b.y - a.y) * kOne;
+  const int64_t step_y0 = static_cast<int64_t>(b.x - c.x) * kOne, step_y1 = static_cast<int64_t>(c.x - a.x) * kOne,
+                step_y2 = static_cast<int64_t>(a.x - b.x) * kOne;
+  const float dz1 = b.z - a.z, dz2 = c.z - a.z;
+  for (int y = y0; y <= y1; ++y) {
+    int64_t w0 = row0, w1 = row1, w2 = row2;
+    int pixel = y * width_ + x0;
+    for (int x = x0; x <= x1; ++x, ++pixel) {
+      if ((w0 | w1 | w2) >= 0) {
+        const float b1 = static_cast<float>(w1 - bias1) * inverse_area;
+        const float b2 = static_cast<float>(w2 - bias2) * inverse_area;
+        const float z = a.z + b1 * dz1 + b2 * dz2;
+        if (z < depth_[pixel]) {
+          depth_[pixel] = z, triangle_[pixel] = id, b1_[pixel] = b1, b2_[pixel] = b2;
+        }
+      }
+      w0 += step_x0, w1 += step_x1, w2 += step_x2;
+    }
     row0 += step_y0, row1 += step_y1, row2 += step_y2;
   }
 }
-#endif
 
 void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
                             int32_t id_offset) {
@@ -145,38 +158,181 @@ void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i*
 }
 
 void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
-                            int32_t id_offset, const Eigen::Vector4i& clip) {
-  const int clip_x0 = std::max(0, clip[0]), clip_y0 = std::max(0, clip[1]);
-  const int clip_x1 = std::min(width_ - 1, clip[2]), clip_y1 = std::min(height_ - 1, clip[3]);
-  if (clip_x0 > clip_x1 || clip_y0 > clip_y1) return;
-  const int32_t left = clip_x0 * kOne, top = clip_y0 * kOne, right = clip_x1 * kOne, bottom = clip_y1 * kOne;
-  for (int t = 0; t < num_triangles; ++t) {
-    const ScreenVertex& a = vertices[triangles[t][0]];
-    const ScreenVertex& b = vertices[triangles[t][1]];
-    const ScreenVertex& c = vertices[triangles[t][2]];
-    // Off-screen triangles first: the cheapest test.
-    const int32_t min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
-    const int32_t min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
-    if (max_x < left || max_y < top || min_x > right || min_y > bottom) continue;
-    // Meshes are counter-clockwise seen from outside; on a y-down screen a
-    // triangle facing the camera then has Edge(a, b, c) > 0. Others face away.
-    const int64_t area = Edge(a, b, c.x, c.y);
-    if (area <= 0) continue;
-    if (a.z < kNearDepth || b.z < kNearDepth || c.z < kNearDepth) continue;
-    if (min_x < -kMaxCoordinate || min_y < -kMaxCoordinate || max_x > kMaxCoordinate || max_y > kMaxCoordinate) continue;
-    // The pixel centres inside the snapped triangle's bounding box.
-    const int x0 = std::max(clip_x0, CeilPixel(min_x)), x1 = std::min(clip_x1, FloorPixel(max_x));
-    const int y0 = std::max(clip_y0, CeilPixel(min_y)), y1 = std::min(clip_y1, FloorPixel(max_y));
-    if (x0 > x1 || y0 > y1) continue;
-    // Edge values stay within 32 bits when the triangle spans under 1024 px.
-    constexpr int32_t kSmall = 1024 * kOne;
-    if (max_x - min_x < kSmall && max_y - min_y < kSmall) {
-      Fill<int32_t>(a, b, c, area, x0, x1, y0, y1, id_offset + t);
-    } else {
-      Fill<int64_t>(a, b, c, area, x0, x1, y0, y1, id_offset + t);
+                            int32_t id_offset, const Eigen::Vector4i& clip_window) {
+  const Eigen::Vector4i clip(std::max(0, clip_window[0]), std::max(0, clip_window[1]),
+                             std::min(width_ - 1, clip_window[2]), std::min(height_ - 1, clip_window[3]));
+  if (clip[0] > clip[2] || clip[1] > clip[3]) return;
+#if defined(GAZEDIRECTOR_AVX512)
+  if (vectorized_setup_) {
+    DrawBatches(vertices, triangles, num_triangles, id_offset, clip);
+    return;
+  }
+#endif
+  for (int t = 0; t < num_triangles; ++t) DrawOne(vertices, triangles[t], id_offset + t, clip);
+}
+
+void VisibilityBuffer::DrawOne(const ScreenVertex* vertices, const Eigen::Vector3i& triangle, int32_t id,
+                               const Eigen::Vector4i& clip) {
+  const ScreenVertex& a = vertices[triangle[0]];
+  const ScreenVertex& b = vertices[triangle[1]];
+  const ScreenVertex& c = vertices[triangle[2]];
+  // Off-screen triangles first: the cheapest test.
+  const int32_t min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
+  const int32_t min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
+  if (max_x < clip[0] * kOne || max_y < clip[1] * kOne || min_x > clip[2] * kOne || min_y > clip[3] * kOne) return;
+  // Meshes are counter-clockwise seen from outside; on a y-down screen a
+  // triangle facing the camera then has Edge(a, b, c) > 0. Others face away.
+  const int64_t area = Edge(a, b, c.x, c.y);
+  if (area <= 0) return;
+  if (a.z < kNearDepth || b.z < kNearDepth || c.z < kNearDepth) return;
+  if (min_x < -kMaxCoordinate || min_y < -kMaxCoordinate || max_x > kMaxCoordinate || max_y > kMaxCoordinate) return;
+  // The pixel centres inside the snapped triangle's bounding box.
+  const int x0 = std::max(clip[0], CeilPixel(min_x)), x1 = std::min(clip[2], FloorPixel(max_x));
+  const int y0 = std::max(clip[1], CeilPixel(min_y)), y1 = std::min(clip[3], FloorPixel(max_y));
+  if (x0 > x1 || y0 > y1) return;
+  if (max_x - min_x >= kSmall || max_y - min_y >= kSmall) {
+    FillLarge(a, b, c, area, x0, x1, y0, y1, id);
+    return;
+  }
+  Prepared p;
+  const int64_t px = static_cast<int64_t>(x0) * kOne, py = static_cast<int64_t>(y0) * kOne;
+  p.bias1 = TopLeftBias(c, a), p.bias2 = TopLeftBias(a, b);
+  p.row[0] = static_cast<int32_t>(Edge(b, c, px, py)) + TopLeftBias(b, c);
+  p.row[1] = static_cast<int32_t>(Edge(c, a, px, py)) + p.bias1;
+  p.row[2] = static_cast<int32_t>(Edge(a, b, px, py)) + p.bias2;
+  p.step_x[0] = (c.y - b.y) * kOne, p.step_x[1] = (a.y - c.y) * kOne, p.step_x[2] = (b.y - a.y) * kOne;
+  p.step_y[0] = (b.x - c.x) * kOne, p.step_y[1] = (c.x - a.x) * kOne, p.step_y[2] = (a.x - b.x) * kOne;
+  p.inverse_area = 1.0f / static_cast<float>(area);
+  p.z0 = a.z, p.dz1 = b.z - a.z, p.dz2 = c.z - a.z;
+  p.x0 = x0, p.x1 = x1, p.y0 = y0, p.y1 = y1, p.id = id;
+  FillRows(p);
+}
+
+#if defined(GAZEDIRECTOR_AVX512)
+// Sixteen triangles at a time: gather their vertices, cull and clip them and
+// set up their edge functions in vector registers; fill the survivors one by
+// one. Large triangles (rare) take the scalar path.
+void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
+                                   int32_t id_offset, const Eigen::Vector4i& clip) {
+  static_assert(sizeof(ScreenVertex) == 12 && sizeof(Eigen::Vector3i) == 12);
+  const int* triangle_ints = reinterpret_cast<const int*>(triangles);
+  const int* vertex_ints = reinterpret_cast<const int*>(vertices);
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i three = _mm512_set1_epi32(3), one = _mm512_set1_epi32(1), zero = _mm512_setzero_si512();
+  const __m512i left = _mm512_set1_epi32(clip[0] * kOne), top = _mm512_set1_epi32(clip[1] * kOne);
+  const __m512i right = _mm512_set1_epi32(clip[2] * kOne), bottom = _mm512_set1_epi32(clip[3] * kOne);
+  const __m512i clip_x0 = _mm512_set1_epi32(clip[0]), clip_y0 = _mm512_set1_epi32(clip[1]);
+  const __m512i clip_x1 = _mm512_set1_epi32(clip[2]), clip_y1 = _mm512_set1_epi32(clip[3]);
+  const __m512i small = _mm512_set1_epi32(kSmall), limit = _mm512_set1_epi32(kMaxCoordinate);
+  const __m512 near = _mm512_set1_ps(kNearDepth);
+  const __m512i rounding = _mm512_set1_epi32(kOne - 1);
+
+  alignas(64) int32_t row0[16], row1[16], row2[16], sx0[16], sx1[16], sx2[16], sy0[16], sy1[16], sy2[16];
+  alignas(64) int32_t bias1[16], bias2[16], x0s[16], x1s[16], y0s[16], y1s[16];
+  alignas(64) float inverse[16], z0s[16], dz1s[16], dz2s[16];
+
+  for (int first = 0; first < num_triangles; first += 16) {
+    const __mmask16 valid = static_cast<__mmask16>(num_triangles - first >= 16 ? 0xFFFF : (1u << (num_triangles - first)) - 1);
+    const __m512i base = _mm512_mullo_epi32(_mm512_add_epi32(_mm512_set1_epi32(first), lanes), three);
+    const __m512i ia = _mm512_mullo_epi32(_mm512_mask_i32gather_epi32(zero, valid, base, triangle_ints, 4), three);
+    const __m512i ib = _mm512_mullo_epi32(
+        _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(base, one), triangle_ints, 4), three);
+    const __m512i ic = _mm512_mullo_epi32(
+        _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(base, _mm512_set1_epi32(2)), triangle_ints, 4), three);
+    const __m512i ax = _mm512_mask_i32gather_epi32(zero, valid, ia, vertex_ints, 4);
+    const __m512i ay = _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ia, one), vertex_ints, 4);
+    const __m512i bx = _mm512_mask_i32gather_epi32(zero, valid, ib, vertex_ints, 4);
+    const __m512i by = _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ib, one), vertex_ints, 4);
+    const __m512i cx = _mm512_mask_i32gather_epi32(zero, valid, ic, vertex_ints, 4);
+    const __m512i cy = _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ic, one), vertex_ints, 4);
+    const __m512i two = _mm512_set1_epi32(2);
+    const __m512 az = _mm512_castsi512_ps(_mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ia, two), vertex_ints, 4));
+    const __m512 bz = _mm512_castsi512_ps(_mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ib, two), vertex_ints, 4));
+    const __m512 cz = _mm512_castsi512_ps(_mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ic, two), vertex_ints, 4));
+
+    const __m512i min_x = _mm512_min_epi32(ax, _mm512_min_epi32(bx, cx)), max_x = _mm512_max_epi32(ax, _mm512_max_epi32(bx, cx));
+    const __m512i min_y = _mm512_min_epi32(ay, _mm512_min_epi32(by, cy)), max_y = _mm512_max_epi32(ay, _mm512_max_epi32(by, cy));
+    __mmask16 live = valid;
+    live &= _mm512_cmpge_epi32_mask(max_x, left) & _mm512_cmpge_epi32_mask(max_y, top);
+    live &= _mm512_cmple_epi32_mask(min_x, right) & _mm512_cmple_epi32_mask(min_y, bottom);
+    if (live == 0) continue;
+    // Large triangles go the scalar way (their areas need 64 bits).
+    const __mmask16 is_small = _mm512_cmplt_epi32_mask(_mm512_sub_epi32(max_x, min_x), small) &
+                               _mm512_cmplt_epi32_mask(_mm512_sub_epi32(max_y, min_y), small) &
+                               _mm512_cmpge_epi32_mask(min_x, _mm512_sub_epi32(zero, limit)) &
+                               _mm512_cmpge_epi32_mask(min_y, _mm512_sub_epi32(zero, limit)) &
+                               _mm512_cmple_epi32_mask(max_x, limit) & _mm512_cmple_epi32_mask(max_y, limit);
+    for (__mmask16 large = live & ~is_small; large != 0; large &= large - 1) {
+      const int lane = __builtin_ctz(large);
+      DrawOne(vertices, triangles[first + lane], id_offset + first + lane, clip);
+    }
+    live &= is_small;
+    const __m512i abx = _mm512_sub_epi32(bx, ax), aby = _mm512_sub_epi32(by, ay);
+    const __m512i acx = _mm512_sub_epi32(cx, ax), acy = _mm512_sub_epi32(cy, ay);
+    const __m512i area = _mm512_sub_epi32(_mm512_mullo_epi32(aby, acx), _mm512_mullo_epi32(abx, acy));
+    live &= _mm512_cmpgt_epi32_mask(area, zero);
+    live &= _mm512_cmp_ps_mask(az, near, _CMP_GE_OQ) & _mm512_cmp_ps_mask(bz, near, _CMP_GE_OQ) &
+            _mm512_cmp_ps_mask(cz, near, _CMP_GE_OQ);
+    // Pixel bounding boxes, clipped (floor by arithmetic shift, ceiling by rounding up first).
+    const __m512i x0 = _mm512_max_epi32(clip_x0, _mm512_srai_epi32(_mm512_add_epi32(min_x, rounding), kSubpixelBits));
+    const __m512i x1 = _mm512_min_epi32(clip_x1, _mm512_srai_epi32(max_x, kSubpixelBits));
+    const __m512i y0 = _mm512_max_epi32(clip_y0, _mm512_srai_epi32(_mm512_add_epi32(min_y, rounding), kSubpixelBits));
+    const __m512i y1 = _mm512_min_epi32(clip_y1, _mm512_srai_epi32(max_y, kSubpixelBits));
+    live &= _mm512_cmple_epi32_mask(x0, x1) & _mm512_cmple_epi32_mask(y0, y1);
+    if (live == 0) continue;
+
+    // Top-left biases: 0 for edges with dy > 0 or (dy == 0 and dx < 0), else -1.
+    auto bias = [&](__m512i from_x, __m512i from_y, __m512i to_x, __m512i to_y) {
+      const __m512i dy = _mm512_sub_epi32(to_y, from_y), dx = _mm512_sub_epi32(to_x, from_x);
+      const __mmask16 top_left = _mm512_cmpgt_epi32_mask(dy, zero) |
+                                 (_mm512_cmpeq_epi32_mask(dy, zero) & _mm512_cmplt_epi32_mask(dx, zero));
+      return _mm512_mask_mov_epi32(_mm512_set1_epi32(-1), top_left, zero);
+    };
+    const __m512i b0v = bias(bx, by, cx, cy), b1v = bias(cx, cy, ax, ay), b2v = bias(ax, ay, bx, by);
+    // Edge values at the first pixel centre: Edge(a, b, p) = (b.y - a.y)(p.x - a.x) - (b.x - a.x)(p.y - a.y).
+    const __m512i px = _mm512_slli_epi32(x0, kSubpixelBits), py = _mm512_slli_epi32(y0, kSubpixelBits);
+    auto edge = [&](__m512i from_x, __m512i from_y, __m512i to_x, __m512i to_y) {
+      return _mm512_sub_epi32(_mm512_mullo_epi32(_mm512_sub_epi32(to_y, from_y), _mm512_sub_epi32(px, from_x)),
+                              _mm512_mullo_epi32(_mm512_sub_epi32(to_x, from_x), _mm512_sub_epi32(py, from_y)));
+    };
+    _mm512_store_si512(row0, _mm512_add_epi32(edge(bx, by, cx, cy), b0v));
+    _mm512_store_si512(row1, _mm512_add_epi32(edge(cx, cy, ax, ay), b1v));
+    _mm512_store_si512(row2, _mm512_add_epi32(edge(ax, ay, bx, by), b2v));
+    _mm512_store_si512(bias1, b1v);
+    _mm512_store_si512(bias2, b2v);
+    _mm512_store_si512(sx0, _mm512_slli_epi32(_mm512_sub_epi32(cy, by), kSubpixelBits));
+    _mm512_store_si512(sx1, _mm512_slli_epi32(_mm512_sub_epi32(ay, cy), kSubpixelBits));
+    _mm512_store_si512(sx2, _mm512_slli_epi32(_mm512_sub_epi32(by, ay), kSubpixelBits));
+    _mm512_store_si512(sy0, _mm512_slli_epi32(_mm512_sub_epi32(bx, cx), kSubpixelBits));
+    _mm512_store_si512(sy1, _mm512_slli_epi32(_mm512_sub_epi32(cx, ax), kSubpixelBits));
+    _mm512_store_si512(sy2, _mm512_slli_epi32(_mm512_sub_epi32(ax, bx), kSubpixelBits));
+    _mm512_store_si512(x0s, x0), _mm512_store_si512(x1s, x1), _mm512_store_si512(y0s, y0), _mm512_store_si512(y1s, y1);
+    _mm512_store_ps(inverse, _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_cvtepi32_ps(area)));
+    _mm512_store_ps(z0s, az);
+    _mm512_store_ps(dz1s, _mm512_sub_ps(bz, az));
+    _mm512_store_ps(dz2s, _mm512_sub_ps(cz, az));
+
+    for (; live != 0; live &= live - 1) {
+      const int lane = __builtin_ctz(live);
+      const Prepared p{{row0[lane], row1[lane], row2[lane]},
+                       {sx0[lane], sx1[lane], sx2[lane]},
+                       {sy0[lane], sy1[lane], sy2[lane]},
+                       bias1[lane],
+                       bias2[lane],
+                       inverse[lane],
+                       z0s[lane],
+                       dz1s[lane],
+                       dz2s[lane],
+                       x0s[lane],
+                       x1s[lane],
+                       y0s[lane],
+                       y1s[lane],
+                       id_offset + first + lane};
+      FillRows(p);
     }
   }
 }
+#endif
 
 void VisibilityBuffer::CollectCovered(std::vector<int>& pixels) const {
   pixels.resize(static_cast<std::size_t>(size()));

@@ -45,6 +45,9 @@ class VisibilityBuffer {
   float b1(int pixel) const { return b1_[pixel]; }
   float b2(int pixel) const { return b2_[pixel]; }
   bool covered(int pixel) const { return triangle_[pixel] >= 0; }
+  const int32_t* triangle_data() const { return triangle_.data(); }
+  const float* b1_data() const { return b1_.data(); }
+  const float* b2_data() const { return b2_.data(); }
 
   // Rasterizes the triangles that face the camera (meshes are wound
   // counter-clockwise seen from outside) with a depth test; covered pixels
@@ -58,6 +61,11 @@ class VisibilityBuffer {
   // The indices of covered pixels, in raster order.
   void CollectCovered(std::vector<int>& pixels) const;
 
+  // Whether triangles are set up sixteen at a time with AVX-512 where the
+  // processor has it (the default); off, every triangle takes the scalar
+  // path. Both give identical buffers.
+  void set_vectorized_setup(bool on) { vectorized_setup_ = on; }
+
  private:
   int width_ = 0;
   int height_ = 0;
@@ -66,9 +74,15 @@ class VisibilityBuffer {
   std::vector<float> b1_;
   std::vector<float> b2_;
 
-  template <typename Int>
-  void Fill(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1, int y0,
-            int y1, int32_t id);
+  struct Prepared;
+  void DrawOne(const ScreenVertex* vertices, const Eigen::Vector3i& triangle, int32_t id, const Eigen::Vector4i& clip);
+  void DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles, int32_t id_offset,
+                   const Eigen::Vector4i& clip);
+  void FillRows(const Prepared& triangle);
+  void FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1,
+                 int y0, int y1, int32_t id);
+
+  bool vectorized_setup_ = true;
 };
 
 }  // namespace gazedirector

@@ -30,11 +30,11 @@ float Occlusion(float distance, float strength, float width) {
 
 cv::Mat RenderBuffers::ColourImage(const cv::Mat& background) const {
   cv::Mat image = background.empty() ? cv::Mat(height(), width(), CV_8UC3, cv::Scalar::all(0)) : background.clone();
-  for (int pixel : foreground) {
-    const float* rgb = &colour[3 * static_cast<std::size_t>(pixel)];
-    image.at<cv::Vec3b>(pixel / width(), pixel % width()) =
-        cv::Vec3b(cv::saturate_cast<uchar>(255 * rgb[2]), cv::saturate_cast<uchar>(255 * rgb[1]),
-                  cv::saturate_cast<uchar>(255 * rgb[0]));
+  for (std::size_t i = 0; i < foreground.size(); ++i) {
+    const Eigen::Index row = static_cast<Eigen::Index>(i);
+    image.at<cv::Vec3b>(foreground[i] / width(), foreground[i] % width()) =
+        cv::Vec3b(cv::saturate_cast<uchar>(255 * colour(row, 2)), cv::saturate_cast<uchar>(255 * colour(row, 1)),
+                  cv::saturate_cast<uchar>(255 * colour(row, 0)));
   }
   return image;
 }
@@ -108,10 +108,44 @@ void Renderer::ComposeSkinTexture(const Parameters& phi) {
   const Eigen::Matrix<double, kNumTextureModes, 1> tau = phi.texture();
   if (composed_ && tau == composed_for_) return;
   model_->skin_texture().Compose(tau.data(), skin_ahead_, skin_down_);
-  skin_ahead8_.Assign(skin_ahead_);
-  skin_down8_.Assign(skin_down_);
   composed_for_ = tau;
   composed_ = true;
+}
+
+// What shading one render needs, gathered once.
+struct Renderer::ShadingInputs {
+  RgbaTexture::Level skin_ahead;
+  RgbaTexture::Level skin_down;
+  RgbaTexture::Level eyeball;
+  float blend;
+  Eigen::Vector3f iris, sclera;
+  Eigen::Vector4f upper_lid[2], lower_lid[2];
+  EyeballShading shading;
+};
+
+void Renderer::ShadePixel(const ShadingInputs& in, int index, RenderBuffers& out) const {
+  const VisibilityBuffer& vis = out.visibility;
+  const int pixel = out.foreground[index];
+  const int part = out.PartAt(pixel);
+  const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
+  const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
+  const Attributes a = b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
+  Eigen::Vector3f albedo;
+  if (!IsEyeball(part)) {
+    albedo = in.skin_ahead.Sample(a[0], a[1]).head<3>();
+    if (in.blend > 0) albedo += in.blend * (in.skin_down.Sample(a[0], a[1]).head<3>() - albedo);
+  } else {
+    const Eigen::Vector4f base = in.eyeball.Sample(a[0], a[1]);
+    const float w = base[3];
+    // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
+    const int eye = EyeOfPart(part);
+    const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], a[5]) - a[6]);
+    const float above_lower = std::max(0.0f, a[6] - Cubic(in.lower_lid[eye], a[5]));
+    const float occlusion = Occlusion(below_upper, in.shading.upper_lid_occlusion, in.shading.occlusion_width_rad) *
+                            Occlusion(above_lower, in.shading.lower_lid_occlusion, in.shading.occlusion_width_rad);
+    albedo = base.head<3>().cwiseProduct(w * in.iris + (1 - w) * in.sclera) * occlusion;
+  }
+  out.colour.row(index) = albedo.cwiseProduct(a.segment<3>(2)).transpose();
 }
 
 void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
@@ -132,54 +166,25 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
     }
   }
 
+  ShadingInputs in;
   // Mip levels that keep texels about a pixel in size.
   const float pixels_per_mm = static_cast<float>(camera.fx / std::max(posed_.eyes[0].centre.z(), 1.0));
-  const int skin_level = skin_ahead8_.LevelFor(kSkinTexelsPerMm / pixels_per_mm);
-  const Rgba8Texture& eyeball_texture = model_->eyeball_texture();
-  const int eyeball_level = eyeball_texture.LevelFor(eyeball_texture.size() * kEyeballUvPerMm / pixels_per_mm);
-  const float blend = posed_.look_down_blend;
-  const Eigen::Vector3f iris = phi.iris_colour().cast<float>();
-  const Eigen::Vector3f sclera = phi.sclera_tint().cast<float>();
-  const Eigen::Vector4f upper_lid[2] = {posed_.eyes[0].upper_lid.cast<float>(), posed_.eyes[1].upper_lid.cast<float>()};
-  const Eigen::Vector4f lower_lid[2] = {posed_.eyes[0].lower_lid.cast<float>(), posed_.eyes[1].lower_lid.cast<float>()};
-  const EyeballShading shading = eyeball_shading_;
-  const Eigen::Vector3i* triangles = model_->all_triangles().data();
+  const int skin_level = skin_ahead_.LevelFor(kSkinTexelsPerMm / pixels_per_mm);
+  in.skin_ahead = skin_ahead_.level(skin_level);
+  in.skin_down = skin_down_.level(skin_level);
+  const RgbaTexture& eyeball = model_->eyeball_texture();
+  in.eyeball = eyeball.level(eyeball.LevelFor(eyeball.size() * kEyeballUvPerMm / pixels_per_mm));
+  in.blend = posed_.look_down_blend;
+  in.iris = phi.iris_colour().cast<float>();
+  in.sclera = phi.sclera_tint().cast<float>();
+  for (int eye = 0; eye < 2; ++eye) {
+    in.upper_lid[eye] = posed_.eyes[eye].upper_lid.cast<float>();
+    in.lower_lid[eye] = posed_.eyes[eye].lower_lid.cast<float>();
+  }
+  in.shading = eyeball_shading_;
 
-  out.colour.resize(3 * static_cast<std::size_t>(out.visibility.size()));
-  const VisibilityBuffer& vis = out.visibility;
-  // Two passes: first interpolate every pixel's attributes, then sample the
-  // textures. Separating the chains of dependent loads lets the processor
-  // overlap more of them.
-  const std::size_t count = out.foreground.size();
-  pixel_attributes_.resize(8, static_cast<Eigen::Index>(count));
-  for (std::size_t i = 0; i < count; ++i) {
-    const int pixel = out.foreground[i];
-    const Eigen::Vector3i& t = triangles[vis.triangle(pixel)];
-    const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
-    pixel_attributes_.col(static_cast<Eigen::Index>(i)) =
-        b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
-  }
-  for (std::size_t i = 0; i < count; ++i) {
-    const int pixel = out.foreground[i];
-    const int part = out.PartAt(pixel);
-    const Attributes a = pixel_attributes_.col(static_cast<Eigen::Index>(i));
-    Eigen::Vector3f albedo;
-    if (!IsEyeball(part)) {
-      albedo = skin_ahead8_.Sample(a[0], a[1], skin_level).head<3>();
-      if (blend > 0) albedo += blend * (skin_down8_.Sample(a[0], a[1], skin_level).head<3>() - albedo);
-    } else {
-      const Eigen::Vector4f base = eyeball_texture.Sample(a[0], a[1], eyeball_level);
-      const float w = base[3];
-      // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
-      const int eye = EyeOfPart(part);
-      const float below_upper = std::max(0.0f, Cubic(upper_lid[eye], a[5]) - a[6]);
-      const float above_lower = std::max(0.0f, a[6] - Cubic(lower_lid[eye], a[5]));
-      const float occlusion = Occlusion(below_upper, shading.upper_lid_occlusion, shading.occlusion_width_rad) *
-                              Occlusion(above_lower, shading.lower_lid_occlusion, shading.occlusion_width_rad);
-      albedo = base.head<3>().cwiseProduct(w * iris + (1 - w) * sclera) * occlusion;
-    }
-    Eigen::Map<Eigen::Vector3f>(&out.colour[3 * static_cast<std::size_t>(pixel)]) = albedo.cwiseProduct(a.segment<3>(2));
-  }
+  out.colour.resize(static_cast<Eigen::Index>(out.foreground.size()), 3);
+  for (int i = 0; i < static_cast<int>(out.foreground.size()); ++i) ShadePixel(in, i, out);
 }
 
 cv::Mat Renderer::InterpolateAttribute(const RenderBuffers& buffers, const EyeRegionModel& model,

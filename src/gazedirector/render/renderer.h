@@ -19,7 +19,9 @@ namespace gazedirector {
 struct RenderBuffers {
   VisibilityBuffer visibility;        // triangle id (into EyeRegionModel::all_triangles), depth, barycentrics
   std::vector<int> foreground;        // covered pixel indices, in raster order
-  std::vector<float> colour;          // RGB per pixel in [0, 1]; defined on the foreground
+  // RGB in [0, 1] of each foreground pixel: row i is pixel foreground[i]
+  // (each channel contiguous, for vector loads).
+  Eigen::Matrix<float, Eigen::Dynamic, 3> colour;
   std::array<int32_t, kNumParts + 1> part_offsets{};  // triangle ids of part p: [offsets[p], offsets[p + 1])
 
   int width() const { return visibility.width(); }
@@ -75,6 +77,8 @@ class Renderer {
 
  private:
   void ComposeSkinTexture(const Parameters& phi);
+  struct ShadingInputs;
+  [[gnu::always_inline]] inline void ShadePixel(const ShadingInputs& in, int index, RenderBuffers& out) const;
 
   std::shared_ptr<const EyeRegionModel> model_;
   PosedModel posed_;
@@ -83,11 +87,8 @@ class Renderer {
   // Per vertex, packed for one vector load: u, v, light r, g, b, and the
   // eyeball's azimuth and elevation.
   Eigen::Matrix<float, 8, Eigen::Dynamic> attributes_;
-  Eigen::Matrix<float, 8, Eigen::Dynamic> pixel_attributes_;  // interpolated, per foreground pixel
-  RgbaTexture skin_ahead_;  // the composed skin texture, float
+  RgbaTexture skin_ahead_;  // the composed skin texture
   RgbaTexture skin_down_;
-  Rgba8Texture skin_ahead8_;  // and as sampled when shading
-  Rgba8Texture skin_down8_;
   Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
   bool composed_ = false;
   EyeballShading eyeball_shading_;

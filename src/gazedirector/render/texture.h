@@ -2,15 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <vector>
 
 #include <Eigen/Core>
 
-#if defined(__SSE4_1__)
-#include <smmintrin.h>
-#endif
 
 namespace gazedirector {
 
@@ -64,6 +59,28 @@ class Texture {
     return level;
   }
 
+  // One mip level, for sampling it many times.
+  struct Level {
+    const float* texels;
+    int size;
+    // Bilinear, clamped at the edges; four channels, one vector load per texel.
+    Eigen::Vector4f Sample(float u, float v) const {
+      static_assert(C == 4);
+      const int s = size;
+      const float x = std::clamp(u * s - 0.5f, 0.0f, s - 1.001f);
+      const float y = std::clamp((1.0f - v) * s - 0.5f, 0.0f, s - 1.001f);
+      const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+      const float fx = x - x0, fy = y - y0;
+      const float* row0 = texels + (static_cast<std::size_t>(y0) * s + x0) * 4;
+      const float* row1 = row0 + static_cast<std::size_t>(s) * 4;
+      using Texel = Eigen::Map<const Eigen::Vector4f>;
+      const Eigen::Vector4f top = Texel(row0) + fx * (Texel(row0 + 4) - Texel(row0));
+      const Eigen::Vector4f bottom = Texel(row1) + fx * (Texel(row1 + 4) - Texel(row1));
+      return top + fy * (bottom - top);
+    }
+  };
+  Level level(int index) const { return {levels_[index].data(), sizes_[index]}; }
+
   // Four channels: one vector load per texel.
   Eigen::Vector4f Sample4(float u, float v, int level) const {
     static_assert(C == 4);
@@ -101,71 +118,5 @@ class Texture {
 
 using RgbTexture = Texture<3>;
 using RgbaTexture = Texture<4>;  // RGB and a spare channel, for vector loads
-
-}  // namespace gazedirector
-
-namespace gazedirector {
-
-// An 8-bit RGBA texture with mips: a quarter of the float texture's memory,
-// so that rendering's texture fetches stay in cache. Values are in [0, 1]
-// quantised to 1/255, which is finer than the photos it is compared with.
-class Rgba8Texture {
- public:
-  // Quantises a float RGBA texture, all levels.
-  void Assign(const RgbaTexture& source) {
-    levels_.resize(static_cast<std::size_t>(source.num_levels()));
-    sizes_.resize(levels_.size());
-    for (int level = 0; level < source.num_levels(); ++level) {
-      const int s = source.size(level);
-      sizes_[level] = s;
-      levels_[level].resize(static_cast<std::size_t>(s) * s * 4);
-      const float* in = source.data(level);
-      for (std::size_t i = 0; i < levels_[level].size(); ++i) {
-        levels_[level][i] = static_cast<uint8_t>(std::clamp(in[i] * 255.0f + 0.5f, 0.0f, 255.0f));
-      }
-    }
-  }
-
-  bool empty() const { return sizes_.empty(); }
-  int size(int level = 0) const { return sizes_[level]; }
-  int num_levels() const { return static_cast<int>(sizes_.size()); }
-  int LevelFor(float texels_per_pixel) const {
-    int level = 0;
-    while (texels_per_pixel > 1.5f && level + 1 < num_levels()) texels_per_pixel *= 0.5f, ++level;
-    return level;
-  }
-
-  // Bilinear, clamped at the edges; uv origin at the bottom left.
-  Eigen::Vector4f Sample(float u, float v, int level) const {
-    const int s = sizes_[level];
-    const uint8_t* texels = levels_[level].data();
-    const float x = std::clamp(u * s - 0.5f, 0.0f, s - 1.001f);
-    const float y = std::clamp((1.0f - v) * s - 0.5f, 0.0f, s - 1.001f);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const float fx = x - x0, fy = y - y0;
-    const uint8_t* row0 = texels + (static_cast<std::size_t>(y0) * s + x0) * 4;
-    const uint8_t* row1 = row0 + static_cast<std::size_t>(s) * 4;
-    const Eigen::Vector4f t00 = Load(row0), t01 = Load(row0 + 4), t10 = Load(row1), t11 = Load(row1 + 4);
-    const Eigen::Vector4f top = t00 + fx * (t01 - t00);
-    const Eigen::Vector4f bottom = t10 + fx * (t11 - t10);
-    return (top + fy * (bottom - top)) * (1.0f / 255.0f);
-  }
-
- private:
-  static Eigen::Vector4f Load(const uint8_t* texel) {
-#if defined(__SSE4_1__)
-    int32_t word;
-    std::memcpy(&word, texel, 4);
-    Eigen::Vector4f out;
-    _mm_storeu_ps(out.data(), _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(word))));
-    return out;
-#else
-    return Eigen::Vector4f(texel[0], texel[1], texel[2], texel[3]);
-#endif
-  }
-
-  std::vector<int> sizes_;
-  std::vector<std::vector<uint8_t>> levels_;
-};
 
 }  // namespace gazedirector

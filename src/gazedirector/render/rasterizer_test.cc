@@ -1,0 +1,102 @@
+#include "gazedirector/render/rasterizer.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/render/renderer.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+// A square of two triangles covering [2.5, 12.5] x [2.5, 12.5] on a 16x16 target.
+std::vector<ScreenVertex> Square(float z) {
+  return {SnapVertex(2.5f, 2.5f, z), SnapVertex(12.5f, 2.5f, z), SnapVertex(12.5f, 12.5f, z), SnapVertex(2.5f, 12.5f, z)};
+}
+// Counter-clockwise seen from outside means clockwise on the y-down screen.
+const std::vector<Eigen::Vector3i> kSquareTriangles = {{0, 2, 1}, {0, 3, 2}};
+
+TEST(RasterizerTest, SharedEdgesAreWatertightWithoutOverlap) {
+  VisibilityBuffer buffer;
+  buffer.Reset(16, 16);
+  const auto vertices = Square(100);
+  buffer.Draw(vertices.data(), kSquareTriangles.data(), 2, 0);
+  int covered = 0;
+  for (int i = 0; i < buffer.size(); ++i) covered += buffer.covered(i);
+  EXPECT_EQ(covered, 100) << "pixel centres 3..12 in x and y, each exactly once";
+  // The diagonal pixels belong to exactly one of the two triangles.
+  EXPECT_TRUE(buffer.covered(5 * 16 + 5));
+}
+
+TEST(RasterizerTest, BackFacesAreCulledAndTheNearerSurfaceWins) {
+  VisibilityBuffer buffer;
+  buffer.Reset(16, 16);
+  const std::vector<Eigen::Vector3i> reversed = {{0, 1, 2}, {0, 2, 3}};
+  const auto far = Square(200), near = Square(100);
+  buffer.Draw(far.data(), reversed.data(), 2, 0);
+  EXPECT_FALSE(buffer.covered(7 * 16 + 7)) << "a triangle seen from behind draws nothing";
+  buffer.Draw(near.data(), kSquareTriangles.data(), 2, 10);
+  buffer.Draw(far.data(), kSquareTriangles.data(), 2, 20);
+  EXPECT_LT(buffer.triangle(7 * 16 + 7), 20);
+  EXPECT_FLOAT_EQ(buffer.depth(7 * 16 + 7), 100.0f);
+}
+
+TEST(RasterizerTest, BarycentricsReproduceThePixelPosition) {
+  VisibilityBuffer buffer;
+  buffer.Reset(16, 16);
+  const std::vector<ScreenVertex> v = {SnapVertex(1, 1, 10), SnapVertex(14, 3, 20), SnapVertex(4, 13, 30)};
+  // Clockwise on screen: (a, c, b) as stored order a, b, c must give positive Edge(a, b, c).
+  const std::vector<Eigen::Vector3i> triangle = {{0, 2, 1}};
+  buffer.Draw(v.data(), triangle.data(), 1, 0);
+  int checked = 0;
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const int pixel = y * 16 + x;
+      if (!buffer.covered(pixel)) continue;
+      const float b1 = buffer.b1(pixel), b2 = buffer.b2(pixel), b0 = 1 - b1 - b2;
+      // Vertex order in the triangle: 0, 2, 1.
+      const float px = b0 * 1 + b1 * 4 + b2 * 14, py = b0 * 1 + b1 * 13 + b2 * 3;
+      EXPECT_NEAR(px, x, 1e-4);
+      EXPECT_NEAR(py, y, 1e-4);
+      EXPECT_NEAR(buffer.depth(pixel), b0 * 10 + b1 * 30 + b2 * 20, 1e-3);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 40);
+}
+
+// The vectorized triangle setup must give exactly the scalar path's buffers,
+// on the real model and on random triangles of all sizes.
+TEST(RasterizerTest, VectorizedSetupMatchesTheScalarPathBitForBit) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> coordinate(-30.0f, 130.0f), depth(50.0f, 60.0f);
+  std::vector<ScreenVertex> vertices;
+  for (int i = 0; i < 3000; ++i) vertices.push_back(SnapVertex(coordinate(random), coordinate(random), depth(random)));
+  std::uniform_int_distribution<int> index(0, 2999);
+  std::vector<Eigen::Vector3i> triangles;
+  for (int i = 0; i < 1000; ++i) {
+    const int a = index(random);
+    // Mostly small triangles, some large ones.
+    const int b = i % 10 == 0 ? index(random) : std::min(2999, a + 1), c = i % 10 == 0 ? index(random) : std::min(2999, a + 2);
+    triangles.emplace_back(a, b, c);
+  }
+  VisibilityBuffer vectorized, scalar;
+  vectorized.Reset(100, 100);
+  scalar.Reset(100, 100);
+  scalar.set_vectorized_setup(false);
+  vectorized.Draw(vertices.data(), triangles.data(), static_cast<int>(triangles.size()), 0, Eigen::Vector4i(5, 0, 90, 99));
+  scalar.Draw(vertices.data(), triangles.data(), static_cast<int>(triangles.size()), 0, Eigen::Vector4i(5, 0, 90, 99));
+  for (int i = 0; i < vectorized.size(); ++i) {
+    ASSERT_EQ(vectorized.triangle(i), scalar.triangle(i)) << "pixel " << i;
+    if (scalar.covered(i)) {
+      ASSERT_EQ(vectorized.depth(i), scalar.depth(i));
+      ASSERT_EQ(vectorized.b1(i), scalar.b1(i));
+      ASSERT_EQ(vectorized.b2(i), scalar.b2(i));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gazedirector
