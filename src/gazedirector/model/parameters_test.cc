@@ -1,0 +1,53 @@
+#include "gazedirector/model/parameters.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace {
+
+TEST(ParametersTest, BlocksTileTheVectorWithoutGaps) {
+  int next = 0;
+  for (const BlockLayout& layout : kBlockLayout) {
+    EXPECT_EQ(layout.offset, next) << layout.name;
+    next += layout.size;
+  }
+  EXPECT_EQ(next, kNumParameters);
+  EXPECT_EQ(Parameters::NameOf(LayoutOf(Block::kGaze).offset + 1), "gaze_pitch_yaw_vergence_deg[1]");
+  EXPECT_EQ(Parameters::BlockOf(LayoutOf(Block::kEyelid).offset), Block::kEyelid);
+}
+
+TEST(ParametersTest, JsonRoundTripsAndRejectsUnknownOrMisshapenBlocks) {
+  Parameters phi;
+  phi.gaze_pitch() = -7.5;
+  phi.gaze_yaw() = 12.0;
+  phi.shape()[3] = 0.8;
+  phi.set_rotation(Eigen::AngleAxisd(0.2, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix());
+  const Parameters back = Parameters::FromJson(phi.ToJson());
+  EXPECT_LT((back.values - phi.values).norm(), 1e-12);
+  EXPECT_LT((back.rotation() - phi.rotation()).norm(), 1e-12);
+
+  nlohmann::json json = phi.ToJson();
+  json["gaze_pitch_yaw_vergence_deg"] = {1, 2};
+  EXPECT_THROW(Parameters::FromJson(json), Error);
+  json = phi.ToJson();
+  json["gaze"] = 3;
+  EXPECT_THROW(Parameters::FromJson(json), Error);
+  // Missing blocks keep their defaults.
+  const Parameters partial = Parameters::FromJson(nlohmann::json{{"eyelid_pitch_deg", 5.0}});
+  EXPECT_EQ(partial.eyelid_pitch(), 5.0);
+  EXPECT_EQ(partial.interocular(), Parameters().interocular());
+}
+
+TEST(ParametersTest, LightDirectionFollowsItsAngles) {
+  Parameters phi;
+  phi.block<Block::kLightDirection>() = Eigen::Vector2d(0, 0);
+  EXPECT_LT((phi.LightDirection() - Eigen::Vector3d(0, 0, -1)).norm(), 1e-12) << "from the camera";
+  phi.block<Block::kLightDirection>() = Eigen::Vector2d(90, 0);
+  EXPECT_LT((phi.LightDirection() - Eigen::Vector3d(0, -1, 0)).norm(), 1e-12) << "from above";
+}
+
+}  // namespace
+}  // namespace gazedirector

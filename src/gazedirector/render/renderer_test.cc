@@ -1,0 +1,161 @@
+#include "gazedirector/render/renderer.h"
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "tests/test_data.h"
+
+// Counts heap allocations while a test asks for it (replaces the global
+// operator new for this test binary; counting is off by default).
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+}  // namespace
+void* operator new(std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void* operator new(std::size_t size, std::align_val_t alignment) {
+  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
+  const std::size_t a = static_cast<std::size_t>(alignment);
+  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size, std::align_val_t alignment) { return operator new(size, alignment); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+
+namespace gazedirector {
+namespace {
+
+std::shared_ptr<const EyeRegionModel> Model() {
+  static const auto model = EyeRegionModel::Load(testing::TestAssets());
+  return model;
+}
+
+// Both eye regions filling a 200x100 region, as when fitting.
+const Camera kCamera{600, 600, 99.5, 49.5, 200, 100};
+Parameters Framed() {
+  Parameters phi;
+  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, 390);
+  return phi;
+}
+
+TEST(RendererTest, RendersAreDeterministicBitForBit) {
+  Renderer first(Model()), second(Model());
+  RenderBuffers a, b, c;
+  Parameters phi = Framed();
+  phi.gaze_yaw() = 7.3;
+  first.Render(phi, kCamera, a);
+  second.Render(phi, kCamera, b);
+  Parameters other = phi;
+  other.gaze_yaw() = -4;
+  first.Render(other, kCamera, c);  // something else in between
+  first.Render(phi, kCamera, c);
+  ASSERT_EQ(a.foreground, b.foreground);
+  ASSERT_EQ(a.foreground, c.foreground);
+  EXPECT_TRUE((a.colour.array() == b.colour.array()).all());
+  EXPECT_TRUE((a.colour.array() == c.colour.array()).all());
+}
+
+TEST(RendererTest, MaskAndPartIdsAgreeAndShowFourParts) {
+  Renderer renderer(Model());
+  RenderBuffers buffers;
+  renderer.Render(Framed(), kCamera, buffers);
+  const cv::Mat mask = buffers.MaskImage(), parts = buffers.PartImage();
+  int counts[4] = {0, 0, 0, 0};
+  for (int i = 0; i < mask.rows * mask.cols; ++i) {
+    EXPECT_EQ(mask.data[i] == 255, parts.data[i] != 255) << "pixel " << i;
+    if (parts.data[i] < 4) ++counts[parts.data[i]];
+  }
+  // The skin fills most of the region; each eyeball shows through its opening.
+  EXPECT_GT(counts[kLeftSkin], 4000);
+  EXPECT_GT(counts[kRightSkin], 4000);
+  EXPECT_GT(counts[kLeftEyeball], 300);
+  EXPECT_GT(counts[kRightEyeball], 300);
+  // The subject's left eye is on the image right.
+  double left_x = 0, right_x = 0;
+  for (int i = 0; i < mask.rows * mask.cols; ++i) {
+    if (parts.data[i] == kLeftEyeball) left_x += i % mask.cols;
+    if (parts.data[i] == kRightEyeball) right_x += i % mask.cols;
+  }
+  EXPECT_GT(left_x / counts[kLeftEyeball], 100);
+  EXPECT_LT(right_x / counts[kRightEyeball], 100);
+  // Colours are in range, the iris darker than the skin.
+  EXPECT_GE(buffers.colour.minCoeff(), 0.0f);
+  EXPECT_LE(buffers.colour.maxCoeff(), 1.5f);
+}
+
+TEST(RendererTest, AttributesInterpolateLinearlyOnScreen) {
+  Renderer renderer(Model());
+  RenderBuffers buffers;
+  renderer.Render(Framed(), kCamera, buffers);
+  // The screen position of each vertex, interpolated, must give back each
+  // pixel's own position (affine interpolation; vertices snap to 1/16 px).
+  std::array<Eigen::MatrixXf, kNumParts> screen;
+  for (int part = 0; part < kNumParts; ++part) {
+    const Eigen::Matrix3Xf& p = renderer.posed().parts[part].positions;
+    screen[part].resize(2, p.cols());
+    for (Eigen::Index i = 0; i < p.cols(); ++i) {
+      screen[part](0, i) = static_cast<float>(kCamera.fx * p(0, i) / p(2, i) + kCamera.cx);
+      screen[part](1, i) = static_cast<float>(kCamera.fy * p(1, i) / p(2, i) + kCamera.cy);
+    }
+  }
+  const cv::Mat field = Renderer::InterpolateAttribute(buffers, *Model(), screen, 2);
+  for (int pixel : buffers.foreground) {
+    const cv::Vec2f value = field.at<cv::Vec2f>(pixel / kCamera.width, pixel % kCamera.width);
+    ASSERT_NEAR(value[0], pixel % kCamera.width, 0.04);
+    ASSERT_NEAR(value[1], pixel / kCamera.width, 0.04);
+  }
+}
+
+TEST(RendererTest, LightAndTintChangeColoursAsLambertianShadingPredicts) {
+  Renderer renderer(Model());
+  RenderBuffers bright, dim;
+  Parameters phi = Framed();
+  renderer.Render(phi, kCamera, bright);
+  phi.block<Block::kAmbient>() *= 0.5;
+  phi.block<Block::kLightColour>() *= 0.5;
+  renderer.Render(phi, kCamera, dim);
+  ASSERT_EQ(bright.foreground, dim.foreground);
+  EXPECT_LT((dim.colour * 2 - bright.colour).cwiseAbs().maxCoeff(), 1e-5) << "colour is linear in the light";
+}
+
+TEST(RendererTest, SteadyStateRenderingAllocatesNothing) {
+  Renderer renderer(Model());
+  RenderBuffers buffers;
+  Parameters phi = Framed();
+  renderer.Render(phi, kCamera, buffers);  // warm up: buffers reach their sizes
+  phi.gaze_yaw() = 3;
+  renderer.Render(phi, kCamera, buffers);
+  g_allocations = 0;
+  g_counting = true;
+  {
+    // The counter works: a vector allocates once.
+    std::vector<int> probe(10);
+    EXPECT_EQ(g_allocations.load(), 1);
+  }
+  g_allocations = 0;
+  for (int i = 0; i < 20; ++i) {
+    phi.gaze_yaw() = (i % 2) ? 2.0 : -2.0;
+    phi.eyelid_pitch() = (i % 3) - 1.0;
+    renderer.Render(phi, kCamera, buffers);
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
+}  // namespace
+}  // namespace gazedirector
