@@ -21,33 +21,42 @@ std::array<Eigen::Vector3d, 2> ModelEyeCorners(const Parameters& phi, const EyeR
           rotation * (centre + to_head * mean.col(topology::kOuterCorner)) + phi.translation()};
 }
 
+Eigen::Vector3d FitTranslationToCorners(const Parameters& start, const EyeRegionModel& model, const Camera& camera,
+                                        const std::vector<CornerTarget>& targets) {
+  Parameters phi = start;
+  Eigen::Vector3d translation = phi.translation();
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    phi.block<Block::kTranslation>() = translation;
+    Eigen::MatrixXd jacobian(2 * targets.size(), 3);
+    Eigen::VectorXd residual(2 * targets.size());
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      const Eigen::Vector3d p = ModelEyeCorners(phi, model, targets[k].eye)[targets[k].corner];
+      const Eigen::Index row = static_cast<Eigen::Index>(2 * k);
+      residual.segment<2>(row) = camera.Project(p) - targets[k].pixel;
+      // The projection's derivative with respect to the point is its derivative with respect to the translation.
+      jacobian.row(row) << camera.fx / p.z(), 0, -camera.fx * p.x() / (p.z() * p.z());
+      jacobian.row(row + 1) << 0, camera.fy / p.z(), -camera.fy * p.y() / (p.z() * p.z());
+    }
+    const Eigen::Vector3d step = (jacobian.transpose() * jacobian).ldlt().solve(jacobian.transpose() * residual);
+    translation -= step;
+    if (!translation.allFinite() || translation.z() <= 1.0) return start.translation();
+    if (step.norm() < 1e-3) break;
+  }
+  return translation;
+}
+
 Parameters InitializeFromLandmarks(const Face& face, const Camera& camera, const EyeRegionModel& model) {
   Parameters phi;
   phi.set_rotation(face.pose.rotation);
   phi.interocular() = kAverageInterocularMm;
-  // Start from the eyes of the mean face: 33 mm above and 95 mm in front of the
-  // head origin (see assets/face); then fit the translation to the corners.
-  Eigen::Vector3d translation = face.pose.rotation * Eigen::Vector3d(0, -33, -80) + face.pose.translation;
-  for (int iteration = 0; iteration < 10; ++iteration) {
-    phi.block<Block::kTranslation>() = translation;
-    Eigen::Matrix<double, 8, 3> jacobian;
-    Eigen::Matrix<double, 8, 1> residual;
-    for (int eye = 0; eye < 2; ++eye) {
-      const auto corners = ModelEyeCorners(phi, model, eye);
-      for (int k = 0; k < 2; ++k) {
-        const Eigen::Vector3d& p = corners[k];
-        const int row = 4 * eye + 2 * k;
-        residual.segment<2>(row) = camera.Project(p) - face.landmarks[kCornerLandmarks[eye][k]];
-        // d(projection)/d(translation) = d(projection)/dp.
-        jacobian.row(row) << camera.fx / p.z(), 0, -camera.fx * p.x() / (p.z() * p.z());
-        jacobian.row(row + 1) << 0, camera.fy / p.z(), -camera.fy * p.y() / (p.z() * p.z());
-      }
-    }
-    const Eigen::Vector3d step = (jacobian.transpose() * jacobian).ldlt().solve(jacobian.transpose() * residual);
-    translation -= step;
-    if (step.norm() < 1e-3) break;
+  // Start from the eyes of the mean face, about 33 mm above and 80 mm in
+  // front of its origin (see assets/face); then fit the corners.
+  phi.block<Block::kTranslation>() = face.pose.rotation * Eigen::Vector3d(0, -33, -80) + face.pose.translation;
+  std::vector<CornerTarget> targets;
+  for (int eye = 0; eye < 2; ++eye) {
+    for (int corner = 0; corner < 2; ++corner) targets.push_back({eye, corner, face.landmarks[kCornerLandmarks[eye][corner]]});
   }
-  phi.block<Block::kTranslation>() = translation;
+  phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, model, camera, targets);
   return phi;
 }
 

@@ -20,4 +20,16 @@ Parameters InitializeFromLandmarks(const Face& face, const Camera& camera, const
 // with the mean shape and resting lids.
 std::array<Eigen::Vector3d, 2> ModelEyeCorners(const Parameters& phi, const EyeRegionModel& model, int eye);
 
+// Where an eye corner should appear: eye, corner (0 inner, 1 outer), pixel.
+struct CornerTarget {
+  int eye;
+  int corner;
+  Eigen::Vector2d pixel;
+};
+
+// The translation that puts the model's eye corners at the targets (least
+// squares, Gauss-Newton), starting from Φ's.
+Eigen::Vector3d FitTranslationToCorners(const Parameters& phi, const EyeRegionModel& model, const Camera& camera,
+                                        const std::vector<CornerTarget>& targets);
+
 }  // namespace gazedirector

@@ -26,6 +26,11 @@ Camera Camera::Scaled(double factor) const {
           static_cast<int>(std::lround(height * factor))};
 }
 
+Camera Camera::Resampled(int x0, int y0, int width, int height, int new_width, int new_height) const {
+  const double sx = static_cast<double>(new_width) / width, sy = static_cast<double>(new_height) / height;
+  return {fx * sx, fy * sy, (cx - x0 + 0.5) * sx - 0.5, (cy - y0 + 0.5) * sy - 0.5, new_width, new_height};
+}
+
 Camera Camera::Cropped(double x0, double y0, int new_width, int new_height) const {
   return {fx, fy, cx - x0, cy - y0, new_width, new_height};
 }

@@ -26,6 +26,13 @@ struct Camera {
   // The same camera for an image scaled by `factor` and cropped at (x0, y0).
   Camera Scaled(double factor) const;
   Camera Cropped(double x0, double y0, int new_width, int new_height) const;
+  // The camera of the image region `x0, y0, width, height` resized to
+  // `new_width` x `new_height` (pixel centres map as cv::resize maps them).
+  Camera Resampled(int x0, int y0, int width, int height, int new_width, int new_height) const;
+  // A point of this camera's image in the resampled image, and back.
+  static Eigen::Vector2d ToResampled(const Eigen::Vector2d& p, int x0, int y0, double sx, double sy) {
+    return {(p.x() - x0 + 0.5) * sx - 0.5, (p.y() - y0 + 0.5) * sy - 0.5};
+  }
 };
 
 }  // namespace gazedirector

@@ -158,6 +158,25 @@ std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets)
 
   model->skin_texture_ =
       SkinTextureModel::LoadOrBuild(root / "textures" / "skin", Assets::CacheDir(), kNumTextureModes);
+  // Each mode alone (the mean subtracted): compose unit coefficients against zero.
+  {
+    RgbaTexture mean_ahead, mean_down, ahead, down;
+    std::vector<double> tau(kNumTextureModes, 0.0);
+    model->skin_texture_.Compose(tau.data(), mean_ahead, mean_down);
+    for (int j = 0; j < kNumTextureModes; ++j) {
+      std::fill(tau.begin(), tau.end(), 0.0);
+      tau[j] = 1.0;
+      model->skin_texture_.Compose(tau.data(), ahead, down);
+      for (RgbaTexture* variant : {&ahead, &down}) {
+        const RgbaTexture& mean = variant == &ahead ? mean_ahead : mean_down;
+        for (int level = 0; level < variant->num_levels(); ++level) {
+          const std::size_t values = static_cast<std::size_t>(variant->size(level)) * variant->size(level) * 4;
+          for (std::size_t i = 0; i < values; ++i) variant->data(level)[i] -= mean.data(level)[i];
+        }
+        model->texture_modes_.push_back(*variant);
+      }
+    }
+  }
   model->eyeball_texture_ = LoadEyeballTexture(root / "textures" / "iris" / "eyeball_grey.png");
   return model;
 }
@@ -232,6 +251,7 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     state.centre = eyeball_origin;
     state.gaze = rotation * gaze_head * Eigen::Vector3d(0, 0, -1);
     state.eyeball_to_camera = eyeball_to_camera;
+    state.region_to_camera = rotation * model_to_head;
     std::array<Eigen::Vector2d, kLidCurvePoints> upper, lower;
     auto angles_of = [&](int vertex) {
       return EyeballModel::AnglesOf((gaze_model.transpose() * work.rigged.col(vertex)).normalized());

@@ -38,6 +38,9 @@ struct PosedEye {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // eyeball centre, camera frame, mm
   Eigen::Vector3d gaze = Eigen::Vector3d::UnitZ();   // unit optical axis, camera frame
   Eigen::Matrix3d eyeball_to_camera = Eigen::Matrix3d::Identity();  // eyeball model frame -> camera (mirrored for the right eye)
+  // The facial region's model frame -> camera (mirrored for the right eye);
+  // its origin is the eyeball centre.
+  Eigen::Matrix3d region_to_camera = Eigen::Matrix3d::Identity();
   // The lid margins in the eyeball's angular coordinates: elevation as a
   // cubic in azimuth (radians), for ambient occlusion of the eyeball.
   Eigen::Vector4d upper_lid = Eigen::Vector4d::Zero();
@@ -81,6 +84,9 @@ class EyeRegionModel {
   const EyeballModel& eyeball() const { return eyeball_; }
   const EyelidRig& rig() const { return rig_; }
   const SkinTextureModel& skin_texture() const { return skin_texture_; }
+  // One unit of texture mode j as a texture with mips (variant 0: looking
+  // ahead, 1: looking down), for the analytic derivatives of colour.
+  const RgbaTexture& texture_mode(int j, int variant) const { return texture_modes_[2 * j + variant]; }
   // Eyeball colour (iris desaturated, so that τ_iris gives its hue) with the
   // iris weight (1 in the iris, 0 on the sclera) in the fourth channel.
   const RgbaTexture& eyeball_texture() const { return eyeball_texture_; }
@@ -121,6 +127,7 @@ class EyeRegionModel {
   EyelidRig rig_;
   SkinTextureModel skin_texture_;
   RgbaTexture eyeball_texture_;
+  std::vector<RgbaTexture> texture_modes_;
   Eigen::Matrix2Xd skin_uvs_;
   std::array<std::vector<Eigen::Vector3i>, kNumParts> triangles_;
   std::vector<Eigen::Vector3i> base_triangles_;  // the coarse facial mesh, for its normals

@@ -69,6 +69,7 @@ void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) {
   const float fx = static_cast<float>(camera.fx), fy = static_cast<float>(camera.fy);
   const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
   for (int part = 0; part < kNumParts; ++part) {
+    if (!eyes_[EyeOfPart(part)]) continue;
     const Eigen::Matrix3Xf& positions = posed_.parts[part].positions;
     ScreenVertex* screen = screen_.data() + model_->vertex_offset(part);
     for (Eigen::Index i = 0; i < positions.cols(); ++i) {
@@ -83,6 +84,7 @@ void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) {
     const int first = model_->triangle_offset(part);
     const int count = model_->triangle_offset(part + 1) - first;
     out.part_offsets[part] = first;
+    if (!eyes_[EyeOfPart(part)]) continue;
     if (!IsEyeball(part)) {
       out.visibility.Draw(screen_.data(), triangles + first, count, first);
       continue;
@@ -117,61 +119,30 @@ struct Renderer::ShadingInputs {
   RgbaTexture::Level skin_ahead;
   RgbaTexture::Level skin_down;
   RgbaTexture::Level eyeball;
+  int skin_level;
   float blend;
   Eigen::Vector3f iris, sclera;
   Eigen::Vector4f upper_lid[2], lower_lid[2];
   EyeballShading shading;
 };
 
-void Renderer::ShadePixel(const ShadingInputs& in, int index, RenderBuffers& out) const {
-  const VisibilityBuffer& vis = out.visibility;
-  const int pixel = out.foreground[index];
-  const int part = out.PartAt(pixel);
-  const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
-  const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
-  const Attributes a = b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
-  Eigen::Vector3f albedo;
-  if (!IsEyeball(part)) {
-    albedo = in.skin_ahead.Sample(a[0], a[1]).head<3>();
-    if (in.blend > 0) albedo += in.blend * (in.skin_down.Sample(a[0], a[1]).head<3>() - albedo);
-  } else {
-    const Eigen::Vector4f base = in.eyeball.Sample(a[0], a[1]);
-    const float w = base[3];
-    // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
-    const int eye = EyeOfPart(part);
-    const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], a[5]) - a[6]);
-    const float above_lower = std::max(0.0f, a[6] - Cubic(in.lower_lid[eye], a[5]));
-    const float occlusion = Occlusion(below_upper, in.shading.upper_lid_occlusion, in.shading.occlusion_width_rad) *
-                            Occlusion(above_lower, in.shading.lower_lid_occlusion, in.shading.occlusion_width_rad);
-    albedo = base.head<3>().cwiseProduct(w * in.iris + (1 - w) * in.sclera) * occlusion;
-  }
-  out.colour.row(index) = albedo.cwiseProduct(a.segment<3>(2)).transpose();
-}
+// One pixel's shading and the pieces its linear derivatives need.
+struct Renderer::PixelShading {
+  Attributes a;            // interpolated vertex attributes
+  Eigen::Vector3f albedo;  // colour before lighting
+  bool eyeball;
+  Eigen::Vector3f base;    // eyeball: texture colour with occlusion, before tinting
+  float iris_weight;       // eyeball: 1 on the iris, 0 on the sclera
+  Eigen::Vector2f uv;
+};
 
-void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
-  ComposeSkinTexture(phi);
-  // Per-vertex attributes: texture coordinates, Lambertian light, and the
-  // eyeball's angular coordinates.
-  const Eigen::Vector3f light = phi.LightDirection().cast<float>();
-  const Eigen::Vector3f ambient = phi.ambient().cast<float>();
-  const Eigen::Vector3f light_colour = phi.light_colour().cast<float>();
-  for (int part = 0; part < kNumParts; ++part) {
-    const PosedPart& posed = posed_.parts[part];
-    const int offset = model_->vertex_offset(part);
-    for (Eigen::Index i = 0; i < posed.normals.cols(); ++i) {
-      auto a = attributes_.col(offset + i);
-      a.head<2>() = posed.uvs.col(i);
-      a.segment<3>(2) = ambient + light_colour * std::max(0.0f, posed.normals.col(i).dot(light));
-      if (IsEyeball(part)) a.segment<2>(5) = model_->eyeball_angles().col(i);
-    }
-  }
-
+Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& camera) const {
   ShadingInputs in;
   // Mip levels that keep texels about a pixel in size.
-  const float pixels_per_mm = static_cast<float>(camera.fx / std::max(posed_.eyes[0].centre.z(), 1.0));
-  const int skin_level = skin_ahead_.LevelFor(kSkinTexelsPerMm / pixels_per_mm);
-  in.skin_ahead = skin_ahead_.level(skin_level);
-  in.skin_down = skin_down_.level(skin_level);
+  const float pixels_per_mm = static_cast<float>(camera.fx / std::max(posed_.eyes[eyes_[0] ? 0 : 1].centre.z(), 1.0));
+  in.skin_level = skin_ahead_.LevelFor(kSkinTexelsPerMm / pixels_per_mm);
+  in.skin_ahead = skin_ahead_.level(in.skin_level);
+  in.skin_down = skin_down_.level(in.skin_level);
   const RgbaTexture& eyeball = model_->eyeball_texture();
   in.eyeball = eyeball.level(eyeball.LevelFor(eyeball.size() * kEyeballUvPerMm / pixels_per_mm));
   in.blend = posed_.look_down_blend;
@@ -182,9 +153,108 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
     in.lower_lid[eye] = posed_.eyes[eye].lower_lid.cast<float>();
   }
   in.shading = eyeball_shading_;
+  return in;
+}
 
+inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const {
+  const VisibilityBuffer& vis = out.visibility;
+  const int pixel = out.foreground[index];
+  const int part = out.PartAt(pixel);
+  const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
+  const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
+  PixelShading shading;
+  Attributes& a = shading.a;
+  a = b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
+  shading.uv = a.head<2>();
+  shading.eyeball = IsEyeball(part);
+  if (!shading.eyeball) {
+    shading.albedo = in.skin_ahead.Sample(a[0], a[1]).head<3>();
+    if (in.blend > 0) shading.albedo += in.blend * (in.skin_down.Sample(a[0], a[1]).head<3>() - shading.albedo);
+  } else {
+    const Eigen::Vector4f base = in.eyeball.Sample(a[0], a[1]);
+    // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
+    const int eye = EyeOfPart(part);
+    const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], a[5]) - a[6]);
+    const float above_lower = std::max(0.0f, a[6] - Cubic(in.lower_lid[eye], a[5]));
+    const float occlusion = Occlusion(below_upper, in.shading.upper_lid_occlusion, in.shading.occlusion_width_rad) *
+                            Occlusion(above_lower, in.shading.lower_lid_occlusion, in.shading.occlusion_width_rad);
+    shading.base = base.head<3>() * occlusion;
+    shading.iris_weight = base[3];
+    shading.albedo = shading.base.cwiseProduct(shading.iris_weight * in.iris + (1 - shading.iris_weight) * in.sclera);
+  }
+  return shading;
+}
+
+void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
+  ComposeSkinTexture(phi);
+  // Per-vertex attributes: texture coordinates, Lambertian light, and the
+  // eyeball's angular coordinates.
+  const Eigen::Vector3f light = phi.LightDirection().cast<float>();
+  const Eigen::Vector3f ambient = phi.ambient().cast<float>();
+  const Eigen::Vector3f light_colour = phi.light_colour().cast<float>();
+  for (int part = 0; part < kNumParts; ++part) {
+    if (!eyes_[EyeOfPart(part)]) continue;
+    const PosedPart& posed = posed_.parts[part];
+    const int offset = model_->vertex_offset(part);
+    for (Eigen::Index i = 0; i < posed.normals.cols(); ++i) {
+      auto a = attributes_.col(offset + i);
+      const float lambert = std::max(0.0f, posed.normals.col(i).dot(light));
+      a.head<2>() = posed.uvs.col(i);
+      a.segment<3>(2) = ambient + light_colour * lambert;
+      if (IsEyeball(part)) a.segment<2>(5) = model_->eyeball_angles().col(i);
+      a[7] = lambert;
+    }
+  }
+  const ShadingInputs in = Inputs(phi, camera);
   out.colour.resize(static_cast<Eigen::Index>(out.foreground.size()), 3);
-  for (int i = 0; i < static_cast<int>(out.foreground.size()); ++i) ShadePixel(in, i, out);
+  for (int i = 0; i < static_cast<int>(out.foreground.size()); ++i) {
+    const PixelShading shading = ShadePixel(in, i, out);
+    out.colour.row(i) = shading.albedo.cwiseProduct(shading.a.segment<3>(2)).transpose();
+  }
+}
+
+const std::vector<int>& Renderer::LinearParameters() {
+  static const std::vector<int> parameters = [] {
+    std::vector<int> indices;
+    for (Block block : {Block::kTexture, Block::kIrisColour, Block::kScleraTint, Block::kAmbient, Block::kLightColour}) {
+      for (int i = 0; i < LayoutOf(block).size; ++i) indices.push_back(LayoutOf(block).offset + i);
+    }
+    return indices;
+  }();
+  return parameters;
+}
+
+void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                              Eigen::MatrixXf& jacobian) const {
+  constexpr int kTexture = 0, kIris = kNumTextureModes, kSclera = kIris + 3, kAmbient = kSclera + 3, kLight = kAmbient + 3;
+  const int count = static_cast<int>(buffers.foreground.size());
+  jacobian.setZero(3 * count, static_cast<Eigen::Index>(LinearParameters().size()));
+  const ShadingInputs in = Inputs(phi, camera);
+  std::array<RgbaTexture::Level, 2 * kNumTextureModes> modes;
+  for (int j = 0; j < kNumTextureModes; ++j) {
+    modes[2 * j] = model_->texture_mode(j, 0).level(in.skin_level);
+    modes[2 * j + 1] = model_->texture_mode(j, 1).level(in.skin_level);
+  }
+  for (int i = 0; i < count; ++i) {
+    const PixelShading s = ShadePixel(in, i, buffers);
+    const Eigen::Vector3f shade = s.a.segment<3>(2);
+    for (int c = 0; c < 3; ++c) {
+      jacobian(3 * i + c, kAmbient + c) = s.albedo[c];
+      jacobian(3 * i + c, kLight + c) = s.albedo[c] * s.a[7];
+    }
+    if (s.eyeball) {
+      for (int c = 0; c < 3; ++c) {
+        jacobian(3 * i + c, kIris + c) = s.base[c] * s.iris_weight * shade[c];
+        jacobian(3 * i + c, kSclera + c) = s.base[c] * (1 - s.iris_weight) * shade[c];
+      }
+      continue;
+    }
+    for (int j = 0; j < kNumTextureModes; ++j) {
+      Eigen::Vector3f mode = modes[2 * j].Sample(s.uv.x(), s.uv.y()).head<3>();
+      if (in.blend > 0) mode += in.blend * (modes[2 * j + 1].Sample(s.uv.x(), s.uv.y()).head<3>() - mode);
+      for (int c = 0; c < 3; ++c) jacobian(3 * i + c, kTexture + j) = mode[c] * shade[c];
+    }
+  }
 }
 
 cv::Mat Renderer::InterpolateAttribute(const RenderBuffers& buffers, const EyeRegionModel& model,

@@ -71,6 +71,19 @@ class Renderer {
   static cv::Mat InterpolateAttribute(const RenderBuffers& buffers, const EyeRegionModel& model,
                                       const std::array<Eigen::MatrixXf, kNumParts>& attributes, int channels);
 
+  // d(colour)/d(parameter) of every foreground pixel for the parameters that
+  // colour is linear in (texture PCA, iris and sclera colours, ambient and
+  // directional light colour), exact, from the last Render with `phi`:
+  // row 3i + c is channel c of foreground pixel i, columns follow
+  // LinearParameters().
+  void LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                      Eigen::MatrixXf& jacobian) const;
+  static const std::vector<int>& LinearParameters();
+
+  // Renders only the parts of these eyes (both by default): a single eye is
+  // fitted to a crop of one eye.
+  void set_eyes(bool left, bool right) { eyes_ = {left, right}; }
+
   const PosedModel& posed() const { return posed_; }
   const EyeRegionModel& model() const { return *model_; }
   EyeballShading& eyeball_shading() { return eyeball_shading_; }
@@ -78,20 +91,23 @@ class Renderer {
  private:
   void ComposeSkinTexture(const Parameters& phi);
   struct ShadingInputs;
-  [[gnu::always_inline]] inline void ShadePixel(const ShadingInputs& in, int index, RenderBuffers& out) const;
+  struct PixelShading;
+  [[gnu::always_inline]] inline PixelShading ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const;
+  ShadingInputs Inputs(const Parameters& phi, const Camera& camera) const;
 
   std::shared_ptr<const EyeRegionModel> model_;
   PosedModel posed_;
   PoseWorkspace workspace_;
   std::vector<ScreenVertex> screen_;  // all parts' vertices, concatenated
-  // Per vertex, packed for one vector load: u, v, light r, g, b, and the
-  // eyeball's azimuth and elevation.
+  // Per vertex, packed for one vector load: u, v, light r, g, b, the
+  // eyeball's azimuth and elevation, and the Lambertian factor max(0, n.l).
   Eigen::Matrix<float, 8, Eigen::Dynamic> attributes_;
   RgbaTexture skin_ahead_;  // the composed skin texture
   RgbaTexture skin_down_;
   Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
   bool composed_ = false;
   EyeballShading eyeball_shading_;
+  std::array<bool, 2> eyes_ = {true, true};
 };
 
 }  // namespace gazedirector

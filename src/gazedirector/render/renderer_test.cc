@@ -133,6 +133,39 @@ TEST(RendererTest, LightAndTintChangeColoursAsLambertianShadingPredicts) {
   EXPECT_LT((dim.colour * 2 - bright.colour).cwiseAbs().maxCoeff(), 1e-5) << "colour is linear in the light";
 }
 
+// The exact derivatives of colour for the linear appearance parameters
+// agree with central differences of two renders.
+TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {
+  Renderer renderer(Model());
+  RenderBuffers buffers, plus, minus;
+  Parameters phi = Framed();
+  phi.eyelid_pitch() = -12;  // the look-down texture blends in
+  phi.gaze_pitch() = -12;
+  phi.texture()[2] = 0.7;
+  renderer.Render(phi, kCamera, buffers);
+  Eigen::MatrixXf analytic;
+  renderer.LinearJacobian(phi, kCamera, buffers, analytic);
+  const std::vector<int>& parameters = Renderer::LinearParameters();
+  ASSERT_EQ(analytic.cols(), static_cast<Eigen::Index>(parameters.size()));
+  ASSERT_EQ(parameters.size(), 20u);
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const double h = 0.05;
+    Parameters up = phi, down = phi;
+    up[parameters[k]] += h;
+    down[parameters[k]] -= h;
+    renderer.Render(up, kCamera, plus);
+    renderer.Render(down, kCamera, minus);
+    ASSERT_EQ(plus.foreground, buffers.foreground) << "coverage does not depend on appearance";
+    const Eigen::MatrixXf numerical = (plus.colour - minus.colour) / static_cast<float>(2 * h);
+    // Row 3i + c of the analytic matrix is channel c of pixel i.
+    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> per_pixel(
+        analytic.col(static_cast<Eigen::Index>(k)).data(), numerical.rows(), 3);
+    const float scale = std::max(1e-3f, numerical.cwiseAbs().maxCoeff());
+    EXPECT_LT((per_pixel - numerical).cwiseAbs().maxCoeff(), 2e-3f * scale) << Parameters::NameOf(parameters[k]);
+    EXPECT_GT(numerical.cwiseAbs().maxCoeff(), 1e-3f) << Parameters::NameOf(parameters[k]) << " changes some pixel";
+  }
+}
+
 TEST(RendererTest, SteadyStateRenderingAllocatesNothing) {
   Renderer renderer(Model());
   RenderBuffers buffers;

@@ -1,0 +1,29 @@
+#pragma once
+
+namespace gazedirector {
+
+// The weights of the paper's energy E = E_img + E_ldmks + E_stats + E_pose.
+struct EnergyWeights {
+  // T: a pixel's squared RGB error (colours in [0, 1]) counts at most T, the
+  // robust ρ(e) = min(√T, e), so that highlights and glasses do not drag the fit.
+  double truncation = 0.06;
+  double landmarks = 2.0;     // λ_ldmks, for the lid points and corners
+  double brow_factor = 0.2;   // brows and nose are marked less precisely
+  double nose_factor = 0.2;
+  double shape = 2e-4;        // λ_geo, per squared standard deviation
+  double texture = 2e-4;      // λ_tex
+  double pose = 4e-5;         // λ_pose, per squared degree of eyelid-gaze mismatch
+};
+
+// The energy's terms for one Φ; image and landmarks are normalised by the
+// foreground area as in the paper.
+struct EnergyTerms {
+  double image = 0;
+  double landmarks = 0;
+  double stats = 0;
+  double pose = 0;
+  int foreground = 0;  // rendered pixels |P|
+  double total() const { return image + landmarks + stats + pose; }
+};
+
+}  // namespace gazedirector

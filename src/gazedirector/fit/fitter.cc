@@ -1,0 +1,350 @@
+#include "gazedirector/fit/fitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/fit/initialization.h"
+#include "gazedirector/geometry/rotation.h"
+#include "gazedirector/model/eye_region_topology.h"
+
+namespace gazedirector {
+namespace {
+
+constexpr int kDomainMargin = 2;   // pixels around the model whose residuals a step watches
+constexpr int kMaxBacktracks = 4;  // halvings of η before a step is given up
+constexpr double kDamping = 1e-4;  // Levenberg-Marquardt damping relative to the diagonal
+
+bool IsLinear(int index) {
+  const std::vector<int>& linear = Renderer::LinearParameters();
+  return std::find(linear.begin(), linear.end(), index) != linear.end();
+}
+
+// The observed region at a working scale: float RGB in [0, 1].
+cv::Mat ObservedRegion(const cv::Mat& image, const cv::Rect& region, cv::Size size) {
+  cv::Mat resized;
+  const bool shrinking = size.width < region.width;
+  cv::resize(image(region), resized, size, 0, 0, shrinking ? cv::INTER_AREA : cv::INTER_LINEAR);
+  cv::Mat rgb;
+  cv::cvtColor(resized, rgb, cv::COLOR_BGR2RGB);
+  rgb.convertTo(rgb, CV_32FC3, 1.0 / 255.0);
+  return rgb;
+}
+
+double GroupWeight(LandmarkGroup group, const EnergyWeights& weights) {
+  switch (group) {
+    case LandmarkGroup::kBrow: return weights.brow_factor;
+    case LandmarkGroup::kNose: return weights.nose_factor;
+    default: return 1.0;
+  }
+}
+
+}  // namespace
+
+void ClampToBounds(Parameters& phi) {
+  auto clamp_block = [&](Block block, double low, double high) {
+    auto values = phi.values.segment(LayoutOf(block).offset, LayoutOf(block).size);
+    values = values.cwiseMax(low).cwiseMin(high);
+  };
+  clamp_block(Block::kShape, -3, 3);
+  clamp_block(Block::kTexture, -3, 3);
+  clamp_block(Block::kIrisSize, 0.85, 1.08);
+  clamp_block(Block::kIrisColour, 0.0, 2.0);
+  clamp_block(Block::kScleraTint, 0.0, 2.0);
+  clamp_block(Block::kInterocular, 50, 76);
+  clamp_block(Block::kEyelid, -40, 40);
+  clamp_block(Block::kAmbient, 0.0, 3.0);
+  clamp_block(Block::kLightColour, 0.0, 3.0);
+  clamp_block(Block::kLightDirection, -80, 80);
+  phi.gaze_pitch() = std::clamp(phi.gaze_pitch(), -45.0, 45.0);
+  phi.gaze_yaw() = std::clamp(phi.gaze_yaw(), -50.0, 50.0);
+  phi.vergence() = std::clamp(phi.vergence(), -4.0, 20.0);
+}
+
+double Fitter::StepSize(int index, const Parameters& phi, const Camera& camera) {
+  const double depth = std::max(phi.translation().z(), 10.0);
+  const double pixels_per_mm = camera.fx / depth;
+  const double half_pixel_mm = 0.5 / pixels_per_mm;
+  const Block block = Parameters::BlockOf(index);
+  const int element = index - LayoutOf(block).offset;
+  switch (block) {
+    case Block::kShape: return 0.25;
+    case Block::kIrisSize: return 0.015;
+    case Block::kRotation: return std::clamp(RadToDeg(half_pixel_mm / 25.0), 0.05, 2.0);  // 25 mm lever
+    case Block::kTranslation: return element < 2 ? half_pixel_mm : half_pixel_mm * depth / 25.0;
+    case Block::kInterocular: return 2 * half_pixel_mm;
+    case Block::kGaze: return std::clamp(RadToDeg(half_pixel_mm / 10.75) * (element == 2 ? 2 : 1), 0.1, 3.0);
+    case Block::kEyelid: return std::clamp(RadToDeg(half_pixel_mm / 12.0), 0.2, 3.0);
+    case Block::kLightDirection: return 3.0;
+    default: return 0.02;  // linear parameters have exact derivatives; this is unused
+  }
+}
+
+Fitter::Fitter(std::shared_ptr<const EyeRegionModel> model, FitOptions options, std::shared_ptr<ThreadPool> pool)
+    : model_(std::move(model)),
+      options_(options),
+      pool_(pool ? std::move(pool) : std::make_shared<ThreadPool>()),
+      landmarks_(*model_) {
+  for (int i = 0; i < pool_->size(); ++i) workspaces_.push_back(std::make_unique<EvaluationWorkspace>(model_));
+}
+
+std::vector<Fitter::Level> Fitter::Pyramid(const cv::Mat& image, const cv::Rect2d& region_d, const Camera& camera,
+                                           const LandmarkModel& landmarks, const std::vector<Eigen::Vector2d>& targets,
+                                           const std::vector<double>& weights, std::array<bool, 2> eyes,
+                                           double scale) const {
+  const cv::Rect region = cv::Rect(region_d) & cv::Rect(0, 0, image.cols, image.rows);
+  std::vector<double> scales = {scale};
+  if (options_.coarse_to_fine) scales.insert(scales.begin(), 0.5 * scale);
+  std::vector<Level> levels;
+  for (double s : scales) {
+    const cv::Size size(std::max(8, static_cast<int>(std::lround(region.width * s))),
+                        std::max(8, static_cast<int>(std::lround(region.height * s))));
+    const Camera work = camera.Resampled(region.x, region.y, region.width, region.height, size.width, size.height);
+    std::vector<Eigen::Vector2d> work_targets;
+    const double sx = static_cast<double>(size.width) / region.width, sy = static_cast<double>(size.height) / region.height;
+    for (const Eigen::Vector2d& p : targets) work_targets.push_back(Camera::ToResampled(p, region.x, region.y, sx, sy));
+    Level level;
+    level.problem = std::make_unique<FittingProblem>(model_, ObservedRegion(image, region, size), work, landmarks,
+                                                     work_targets, weights, options_.weights, eyes);
+    levels.push_back(std::move(level));
+  }
+  return levels;
+}
+
+FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters* start) {
+  Parameters phi = start ? *start : InitializeFromLandmarks(face, camera, *model_);
+  // The fitted region: the model's extent at the start, in the image.
+  PosedModel posed;
+  PoseWorkspace pose_work;
+  model_->Pose(phi, posed, pose_work);
+  Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
+  for (int eye = 0; eye < 2; ++eye) {
+    for (Eigen::Index v = 0; v < posed.region[eye].cols(); ++v) {
+      const Eigen::Vector3d p = posed.eyes[eye].region_to_camera * posed.region[eye].col(v) + posed.eyes[eye].centre;
+      if (p.z() <= 1) continue;
+      const Eigen::Vector2d q = camera.Project(p);
+      low = low.cwiseMin(q), high = high.cwiseMax(q);
+    }
+  }
+  const Eigen::Vector2d margin = 0.04 * (high - low);
+  cv::Rect region(cv::Point(static_cast<int>(std::floor(low.x() - margin.x())), static_cast<int>(std::floor(low.y() - margin.y()))),
+                  cv::Point(static_cast<int>(std::ceil(high.x() + margin.x())), static_cast<int>(std::ceil(high.y() + margin.y()))));
+  region &= cv::Rect(0, 0, image.cols, image.rows);
+  FitResult failed;
+  failed.phi = phi;
+  if (region.width < 16 || region.height < 8) {
+    failed.note = "the eyes are too small or outside the image";
+    return failed;
+  }
+  std::vector<Eigen::Vector2d> targets;
+  std::vector<double> weights;
+  for (const ModelLandmark& landmark : landmarks_.landmarks()) {
+    targets.push_back(face.landmarks[landmark.dlib_index]);
+    weights.push_back(GroupWeight(landmark.group, options_.weights));
+  }
+  const double scale = std::min(3.0, static_cast<double>(options_.work_width) / region.width);
+  std::vector<Level> levels = Pyramid(image, region, camera, landmarks_, targets, weights, {true, true}, scale);
+  ParameterMask free = options_.free;
+  FitResult result = Solve(levels, phi, free);
+  result.region = region;
+  return result;
+}
+
+FitResult Fitter::FitEyePatch(const cv::Mat& crop, int eye, double corner_distance) {
+  // A long lens: the crop is a small part of a distant face.
+  const Camera camera{8.0 * crop.cols, 8.0 * crop.cols, 0.5 * (crop.cols - 1), 0.5 * (crop.rows - 1), crop.cols, crop.rows};
+  Parameters phi;
+  phi.interocular() = kAverageInterocularMm;
+  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 23.0 / (corner_distance * crop.cols));
+  // The eye's corners sit symmetrically about the crop's centre; the inner
+  // corner is toward the nose (image left for the subject's left eye).
+  const double half = 0.5 * corner_distance * crop.cols;
+  const Eigen::Vector2d centre(camera.cx, camera.cy);
+  const double inner_side = eye == kLeftEye ? -1.0 : 1.0;
+  const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * half, 0)},
+                                             {eye, 1, centre - Eigen::Vector2d(inner_side * half, 0)}};
+  phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, *model_, camera, corners);
+
+  // The crop's framing stands in for the landmarks: weak targets at the corners.
+  const LandmarkModel one_eye = landmarks_.OneEye(eye);
+  std::vector<Eigen::Vector2d> targets;
+  std::vector<double> weights;
+  for (const ModelLandmark& landmark : one_eye.landmarks()) {
+    const bool inner = landmark.terms.size() == 1 && landmark.terms[0].vertex == topology::kInnerCorner;
+    const bool outer = landmark.terms.size() == 1 && landmark.terms[0].vertex == topology::kOuterCorner;
+    targets.push_back(inner ? corners[0].pixel : outer ? corners[1].pixel : Eigen::Vector2d::Zero());
+    weights.push_back(inner || outer ? 0.15 : 0.0);
+  }
+  const double scale = std::min(4.0, static_cast<double>(options_.work_width) / crop.cols);
+  std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
+  std::vector<Level> levels =
+      Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, one_eye, targets, weights, eyes, scale);
+  // One eye cannot tell the interocular distance or the vergence.
+  ParameterMask free = options_.free;
+  for (Block block : {Block::kInterocular}) free[LayoutOf(block).offset] = false;
+  free[LayoutOf(Block::kGaze).offset + 2] = false;
+  FitResult result = Solve(levels, phi, free);
+  result.region = cv::Rect2d(0, 0, crop.cols, crop.rows);
+  return result;
+}
+
+double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
+                         Eigen::MatrixXd& normal, Eigen::VectorXd& gradient) {
+  const int rows = problem.num_residuals();
+  const int columns = static_cast<int>(free.size());
+  jacobian_.resize(rows, columns);
+  // The residuals at Φ, and from the same render the exact columns of the
+  // parameters colour is linear in.
+  EvaluationWorkspace& main = *workspaces_[0];
+  const EnergyTerms terms = problem.Evaluate(phi, main, &residuals_);
+  std::vector<int> numeric;
+  std::vector<std::pair<int, int>> linear;  // (column, index in Renderer::LinearParameters)
+  const std::vector<int>& linear_parameters = Renderer::LinearParameters();
+  for (int c = 0; c < columns; ++c) {
+    const auto found = std::find(linear_parameters.begin(), linear_parameters.end(), free[c]);
+    if (found == linear_parameters.end()) {
+      numeric.push_back(c);
+    } else {
+      linear.emplace_back(c, static_cast<int>(found - linear_parameters.begin()));
+    }
+  }
+  if (!linear.empty()) {
+    main.renderer.LinearJacobian(phi, problem.camera(), main.buffers, linear_);
+    const std::vector<int>& domain = problem.domain();
+    const int texture_prior_row = rows - 1 - kNumTextureModes;
+    for (const auto& [column, k] : linear) {
+      auto out = jacobian_.col(column);
+      out.setZero();
+      for (std::size_t d = 0; d < domain.size(); ++d) {
+        const int i = main.foreground_index[domain[d]];
+        if (i < 0) continue;
+        const float scale = problem.PixelScale(main, domain[d]);
+        for (int c = 0; c < 3; ++c) out[3 * static_cast<Eigen::Index>(d) + c] = linear_(3 * i + c, k) * scale;
+      }
+      const int parameter = free[column];
+      const int texture = parameter - LayoutOf(Block::kTexture).offset;
+      if (texture >= 0 && texture < kNumTextureModes) {
+        out[texture_prior_row + texture] = static_cast<float>(std::sqrt(problem.weights().texture));
+      }
+    }
+  }
+  // Central differences, two renders per parameter, spread over the threads.
+  pool_->ParallelFor(static_cast<int>(numeric.size()), [&](int k, int worker) {
+    EvaluationWorkspace& work = *workspaces_[worker];
+    const int column = numeric[k];
+    const int index = free[column];
+    const double h = StepSize(index, phi, problem.camera());
+    Parameters up = phi, down = phi;
+    up[index] += h;
+    down[index] -= h;
+    problem.Evaluate(up, work, &work.plus);
+    problem.Evaluate(down, work, &work.minus);
+    jacobian_.col(column) = (work.plus - work.minus) / static_cast<float>(2 * h);
+  });
+  normal = (jacobian_.transpose() * jacobian_).cast<double>();
+  gradient = (jacobian_.transpose() * residuals_).cast<double>();
+  return terms.total();
+}
+
+FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& mask) {
+  std::vector<int> free;
+  for (int i = 0; i < kNumParameters; ++i) {
+    if (mask[i]) free.push_back(i);
+  }
+  FitResult result;
+  ClampToBounds(phi);
+  EvaluationWorkspace& main = *workspaces_[0];
+  const int num_levels = static_cast<int>(levels.size());
+  int iteration = 0;
+  const double base_landmarks = options_.weights.landmarks;
+  for (int l = 0; l < num_levels; ++l) {
+    FittingProblem& problem = *levels[l].problem;
+    // The coarse level gets a third of the iterations.
+    const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
+    int stalled = 0;
+    for (int local = 0; local < budget; ++local, ++iteration) {
+      const double progress = options_.max_iterations > 1 ? static_cast<double>(iteration) / (options_.max_iterations - 1) : 1.0;
+      problem.weights().landmarks = base_landmarks * (1.0 - (1.0 - options_.landmark_final) * progress);
+      EnergyTerms current = problem.Evaluate(phi, main, nullptr);
+      problem.SetDomain(main.buffers, kDomainMargin);
+      if (options_.record_history && result.history.empty()) result.history.push_back({l, current, phi, 0.0});
+
+      Eigen::MatrixXd normal;
+      Eigen::VectorXd gradient;
+      const double energy = Linearize(problem, phi, free, normal, gradient);
+      Eigen::MatrixXd damped = normal;
+      damped.diagonal() += kDamping * normal.diagonal() + Eigen::VectorXd::Constant(normal.rows(), 1e-12);
+      const Eigen::VectorXd step = -damped.ldlt().solve(gradient);
+      if (!step.allFinite()) break;
+
+      // Annealed step, halved until the energy falls.
+      double eta = std::min(1.0, options_.first_step + options_.step_growth * iteration);
+      bool accepted = false;
+      for (int attempt = 0; attempt <= kMaxBacktracks && !accepted; ++attempt, eta *= 0.5) {
+        Parameters trial = phi;
+        for (std::size_t k = 0; k < free.size(); ++k) trial[free[k]] += eta * step[static_cast<Eigen::Index>(k)];
+        ClampToBounds(trial);
+        const EnergyTerms terms = problem.Evaluate(trial, main, nullptr);
+        if (terms.foreground > 0 && terms.total() < energy) {
+          const double decrease = (energy - terms.total()) / std::max(energy, 1e-12);
+          phi = trial;
+          current = terms;
+          accepted = true;
+          stalled = decrease < options_.tolerance ? stalled + 1 : 0;
+          if (options_.record_history) result.history.push_back({l, terms, phi, eta});
+        }
+      }
+      result.iterations = iteration + 1;
+      if (!accepted || stalled >= 2) {
+        result.converged = true;
+        ++iteration;
+        break;
+      }
+    }
+  }
+  options_.weights.landmarks = base_landmarks;
+  FittingProblem& finest = *levels.back().problem;
+  finest.weights().landmarks = base_landmarks;
+  result.phi = phi;
+  result.terms = finest.Evaluate(phi, main, nullptr);
+  result.work_camera = finest.camera();
+  Assess(result, finest);
+  return result;
+}
+
+void Fitter::Assess(FitResult& result, const FittingProblem& problem) const {
+  // Landmark agreement on the lids and corners, relative to the eye's width.
+  const auto& targets = problem.target_landmarks();
+  const auto& landmarks = problem.landmark_model().landmarks();
+  EvaluationWorkspace& main = *workspaces_[0];
+  std::vector<Eigen::Vector2d> projected;
+  problem.landmark_model().Project(main.renderer.posed(), problem.camera(), projected);
+  double squared = 0, width = 0;
+  int count = 0;
+  for (std::size_t k = 0; k < landmarks.size() && !targets.empty(); ++k) {
+    if (landmarks[k].group != LandmarkGroup::kEyelid) continue;
+    squared += (projected[k] - targets[k]).squaredNorm();
+    ++count;
+  }
+  for (int eye = 0; eye < 2; ++eye) {
+    if (!problem.eyes()[eye]) continue;
+    const auto corners = ModelEyeCorners(result.phi, *model_, eye);
+    width = std::max(width, (problem.camera().Project(corners[0]) - problem.camera().Project(corners[1])).norm());
+  }
+  result.landmark_error = count > 0 && width > 0 ? std::sqrt(squared / count) / width : std::numeric_limits<double>::quiet_NaN();
+  const double rms_colour = std::sqrt(result.terms.image);
+  if (result.terms.foreground < 100) {
+    result.note = "the model covers almost no pixels";
+  } else if (rms_colour > 0.2) {
+    result.note = "the rendered eyes do not match the photo";
+  } else if (result.landmark_error > 0.15) {
+    result.note = "the model's lids do not follow the tracked landmarks";
+  } else {
+    result.good = true;
+  }
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,109 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "gazedirector/face/face.h"
+#include "gazedirector/fit/energy.h"
+#include "gazedirector/fit/fitting_problem.h"
+#include "gazedirector/fit/landmark_model.h"
+#include "gazedirector/geometry/camera.h"
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/util/thread_pool.h"
+
+namespace gazedirector {
+
+struct FitOptions {
+  EnergyWeights weights;
+  int max_iterations = 16;        // Gauss-Newton iterations over all pyramid levels
+  double tolerance = 2e-3;        // stop when an iteration lowers E by less than this fraction, twice running
+  int work_width = 200;           // the fitted region is resampled to this many pixels across
+  bool coarse_to_fine = true;     // start on a half-resolution, smoother image
+  ParameterMask free = AllParameters();  // parameters held fixed are false
+  // Annealing: the step η grows from `first_step` by `step_growth` per iteration up to 1,
+  // and λ_ldmks falls to `landmark_final` of its value: landmarks guide early, pixels decide late.
+  double first_step = 0.6;
+  double step_growth = 0.1;
+  double landmark_final = 0.5;
+  bool record_history = false;    // keep every iterate (for plots)
+};
+
+struct FitIteration {
+  int level = 0;          // pyramid level (0 coarsest)
+  EnergyTerms terms;
+  Parameters phi;
+  double step = 0;        // η of the accepted step
+};
+
+struct FitResult {
+  Parameters phi;
+  EnergyTerms terms;      // at the final Φ, finest level
+  int iterations = 0;
+  bool converged = false;  // stopped because E stopped falling, not at the iteration limit
+  std::vector<FitIteration> history;  // with record_history: the initial Φ, then each accepted iterate
+  cv::Rect2d region;       // the fitted region of the input image
+  Camera work_camera;      // the camera of the working resolution
+  // RMS distance between the model's and the tracker's eyelid landmarks,
+  // relative to the eye's width; NaN when fitted without landmarks.
+  double landmark_error = 0;
+  bool good = false;       // the fit explains the image (see Fitter::Assess)
+  std::string note;        // why not, when not
+};
+
+// Fits the multi-part eye-region model to images by analysis-by-synthesis
+// with annealed Gauss-Newton: numerical central-difference Jacobians (two
+// renders per parameter, spread over the thread pool) and exact ones for the
+// parameters colour is linear in, on a coarse-to-fine image pyramid.
+class Fitter {
+ public:
+  Fitter(std::shared_ptr<const EyeRegionModel> model, FitOptions options = {},
+         std::shared_ptr<ThreadPool> pool = nullptr);
+
+  // Both eye regions of a face, from its landmarks, or from `start` (the
+  // previous video frame's Φ) when given.
+  FitResult FitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters* start = nullptr);
+
+  // One eye region in a crop of a single eye (as the Columbia crops): the eye
+  // sits at the crop's centre, its corners `corner_distance` of the crop's
+  // width apart. `eye` is the subject's (kLeftEye is the image-right eye).
+  FitResult FitEyePatch(const cv::Mat& crop, int eye, double corner_distance = 0.62);
+
+  FitOptions& options() { return options_; }
+  const FitOptions& options() const { return options_; }
+  const EyeRegionModel& model() const { return *model_; }
+
+  // The numerical derivative step of parameter `index` at Φ seen by `camera`:
+  // about half a pixel of motion for geometry.
+  static double StepSize(int index, const Parameters& phi, const Camera& camera);
+
+ private:
+  struct Level {
+    std::unique_ptr<FittingProblem> problem;
+  };
+  FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free);
+  // One Gauss-Newton linearisation at Φ: the residuals, J^T J and J^T r over `free`.
+  double Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
+                   Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);
+  std::vector<Level> Pyramid(const cv::Mat& image, const cv::Rect2d& region, const Camera& camera,
+                             const LandmarkModel& landmarks, const std::vector<Eigen::Vector2d>& targets,
+                             const std::vector<double>& weights, std::array<bool, 2> eyes, double scale) const;
+  void Assess(FitResult& result, const FittingProblem& problem) const;
+
+  std::shared_ptr<const EyeRegionModel> model_;
+  FitOptions options_;
+  std::shared_ptr<ThreadPool> pool_;
+  LandmarkModel landmarks_;
+  std::vector<std::unique_ptr<EvaluationWorkspace>> workspaces_;
+  Eigen::MatrixXf jacobian_;
+  Eigen::MatrixXf linear_;
+  Eigen::VectorXf residuals_;
+};
+
+// Clamps Φ to plausible values (PCA within 3 standard deviations, gaze
+// within the eye's range, positive colours and light).
+void ClampToBounds(Parameters& phi);
+
+}  // namespace gazedirector

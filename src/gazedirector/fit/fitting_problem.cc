@@ -1,0 +1,115 @@
+#include "gazedirector/fit/fitting_problem.h"
+
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace gazedirector {
+
+FittingProblem::FittingProblem(std::shared_ptr<const EyeRegionModel> model, const cv::Mat& observed_rgb,
+                               const Camera& camera, const LandmarkModel& landmark_model,
+                               std::vector<Eigen::Vector2d> target_landmarks, std::vector<double> landmark_weights,
+                               const EnergyWeights& weights, std::array<bool, 2> eyes)
+    : model_(std::move(model)),
+      observed_(observed_rgb),
+      camera_(camera),
+      landmark_model_(landmark_model),
+      targets_(std::move(target_landmarks)),
+      landmark_weights_(std::move(landmark_weights)),
+      weights_(weights),
+      eyes_(eyes) {
+  CV_Assert(observed_.type() == CV_32FC3 && observed_.cols == camera.width && observed_.rows == camera.height);
+  CV_Assert(targets_.empty() || targets_.size() == landmark_model_.landmarks().size());
+  CV_Assert(landmark_weights_.size() == targets_.size());
+}
+
+void FittingProblem::SetDomain(const RenderBuffers& current, int margin) {
+  cv::Mat mask = current.MaskImage();
+  if (margin > 0) {
+    cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * margin + 1, 2 * margin + 1)));
+  }
+  domain_.clear();
+  for (int i = 0; i < mask.rows * mask.cols; ++i) {
+    if (mask.data[i]) domain_.push_back(i);
+  }
+}
+
+int FittingProblem::num_residuals() const {
+  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + 1;
+}
+
+float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) const {
+  const int row = work.foreground_index[pixel];
+  if (row < 0) return 0.0f;
+  const float inverse_root_area = 1.0f / std::sqrt(static_cast<float>(work.buffers.foreground.size()));
+  const cv::Vec3f observed = observed_.at<cv::Vec3f>(pixel / camera_.width, pixel % camera_.width);
+  float squared = 0;
+  for (int c = 0; c < 3; ++c) squared += std::pow(work.buffers.colour(row, c) - observed[c], 2.0f);
+  const float truncation = static_cast<float>(weights_.truncation);
+  return squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+}
+
+EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace& work, Eigen::VectorXf* residuals) const {
+  work.renderer.set_eyes(eyes_[0], eyes_[1]);
+  work.renderer.Render(phi, camera_, work.buffers);
+  const RenderBuffers& buffers = work.buffers;
+  EnergyTerms terms;
+  terms.foreground = static_cast<int>(buffers.foreground.size());
+  // An empty render explains nothing: the worst energy.
+  const double area = std::max(terms.foreground, 1);
+  const float truncation = static_cast<float>(weights_.truncation);
+
+  work.foreground_index.assign(static_cast<std::size_t>(camera_.width) * camera_.height, -1);
+  const float* observed = observed_.ptr<float>();
+  double image = 0;
+  for (int i = 0; i < terms.foreground; ++i) {
+    const int pixel = buffers.foreground[i];
+    work.foreground_index[pixel] = i;
+    float squared = 0;
+    for (int c = 0; c < 3; ++c) squared += std::pow(buffers.colour(i, c) - observed[3 * pixel + c], 2.0f);
+    image += std::min(squared, truncation);
+  }
+  terms.image = terms.foreground > 0 ? image / area : weights_.truncation;
+
+  const double landmark_scale = weights_.landmarks / area;
+  if (!targets_.empty()) {
+    landmark_model_.Project(work.renderer.posed(), camera_, work.landmarks);
+    for (std::size_t k = 0; k < targets_.size(); ++k) {
+      terms.landmarks += landmark_scale * landmark_weights_[k] * (work.landmarks[k] - targets_[k]).squaredNorm();
+    }
+  }
+  terms.stats = weights_.shape * phi.shape().squaredNorm() + weights_.texture * phi.texture().squaredNorm();
+  terms.pose = weights_.pose * std::pow(phi.eyelid_pitch() - phi.gaze_pitch(), 2);
+
+  if (residuals == nullptr) return terms;
+  Eigen::VectorXf& r = *residuals;
+  r.resize(num_residuals());
+  const float inverse_root_area = static_cast<float>(1.0 / std::sqrt(area));
+  int row = 0;
+  for (int pixel : domain_) {
+    const int i = work.foreground_index[pixel];
+    if (i < 0) {
+      r.segment<3>(row).setZero();
+    } else {
+      Eigen::Vector3f difference;
+      for (int c = 0; c < 3; ++c) difference[c] = buffers.colour(i, c) - observed[3 * pixel + c];
+      const float squared = difference.squaredNorm();
+      const float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+      r.segment<3>(row) = difference * scale;
+    }
+    row += 3;
+  }
+  for (std::size_t k = 0; k < targets_.size(); ++k) {
+    const double scale = std::sqrt(landmark_scale * landmark_weights_[k]);
+    r.segment<2>(row) = ((work.landmarks[k] - targets_[k]) * scale).cast<float>();
+    row += 2;
+  }
+  r.segment<kNumShapeModes>(row) = (std::sqrt(weights_.shape) * phi.shape()).cast<float>();
+  row += kNumShapeModes;
+  r.segment<kNumTextureModes>(row) = (std::sqrt(weights_.texture) * phi.texture()).cast<float>();
+  row += kNumTextureModes;
+  r[row] = static_cast<float>(std::sqrt(weights_.pose) * (phi.eyelid_pitch() - phi.gaze_pitch()));
+  return terms;
+}
+
+}  // namespace gazedirector
