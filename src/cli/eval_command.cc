@@ -1,13 +1,25 @@
 // gazedirector eval: accuracy figures on the real data, printed as numbers.
+#include <algorithm>
+#include <map>
 #include <memory>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include "cli/common.h"
+#include "gazedirector/eval/columbia.h"
+#include "gazedirector/fit/fit_options.h"
 #include "gazedirector/eval/landmark_accuracy.h"
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/text_writer.h"
+#include "gazedirector/util/progress.h"
+#include "gazedirector/util/statistics.h"
+#include "gazedirector/util/timer.h"
+#include "gazedirector/viz/plot.h"
 #include "gazedirector/io/assets.h"
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector::cli {
@@ -17,7 +29,132 @@ struct EvalOptions {
   CommonOptions common;
   bool json = false;
   std::string landmarks_xml;
+  std::string columbia_dir;
+  std::string plot = "eval_columbia.png";
+  std::string csv;
+  std::vector<std::string> subjects;
+  std::vector<int> poses;
+  int every = 1;
+  int threads = 2;
+  int iterations = 0;
+  std::vector<std::string> fit_options;
 };
+
+// Mean and median absolute yaw and pitch errors of a set of fits.
+struct ErrorSummary {
+  int count = 0;
+  double yaw_mean = 0, yaw_median = 0, pitch_mean = 0, pitch_median = 0;
+  double zero_yaw_mean = 0, zero_pitch_mean = 0;  // the always-straight-ahead predictor
+};
+
+ErrorSummary Summarise(const std::vector<const ColumbiaFit*>& fits) {
+  std::vector<double> yaw, pitch, zero_yaw, zero_pitch;
+  for (const ColumbiaFit* fit : fits) {
+    yaw.push_back(fit->yaw_error);
+    pitch.push_back(fit->pitch_error);
+    zero_yaw.push_back(std::abs(fit->crop.horizontal));
+    zero_pitch.push_back(std::abs(fit->crop.vertical));
+  }
+  return {static_cast<int>(fits.size()), Mean(yaw), Median(yaw), Mean(pitch), Median(pitch), Mean(zero_yaw), Mean(zero_pitch)};
+}
+
+nlohmann::json ToJson(const ErrorSummary& s) {
+  return {{"crops", s.count},
+          {"yaw_mean_deg", RoundTo(s.yaw_mean, 3)},
+          {"yaw_median_deg", RoundTo(s.yaw_median, 3)},
+          {"pitch_mean_deg", RoundTo(s.pitch_mean, 3)},
+          {"pitch_median_deg", RoundTo(s.pitch_median, 3)},
+          {"zero_yaw_mean_deg", RoundTo(s.zero_yaw_mean, 3)},
+          {"zero_pitch_mean_deg", RoundTo(s.zero_pitch_mean, 3)}};
+}
+
+// Photometric energy and gaze error against the Gauss-Newton iteration:
+// median and interquartile band, as in the paper's figure.
+cv::Mat ConvergencePlot(const std::vector<ColumbiaFit>& fits) {
+  std::vector<std::vector<double>> energies, errors;
+  std::size_t length = 0;
+  for (const ColumbiaFit& fit : fits) {
+    energies.push_back(fit.energy_by_iteration);
+    errors.push_back(fit.gaze_error_by_iteration);
+    length = std::max(length, fit.energy_by_iteration.size());
+  }
+  std::vector<double> x;
+  for (std::size_t i = 0; i < length; ++i) x.push_back(static_cast<double>(i));
+  const QuantileCurves energy = QuantilesByIndex(energies, static_cast<int>(length));
+  const QuantileCurves error = QuantilesByIndex(errors, static_cast<int>(length));
+  LinePlot energy_plot("Photometric energy E_img", "Gauss-Newton iteration", "E_img (mean squared RGB error)");
+  energy_plot.AddSeries("median, IQR", x, energy.median, cv::Scalar(180, 90, 30), energy.q25, energy.q75);
+  LinePlot error_plot("Gaze error", "Gauss-Newton iteration", "angle to the label (degrees)");
+  error_plot.AddSeries("median, IQR", x, error.median, cv::Scalar(40, 40, 200), error.q25, error.q75);
+  return SideBySide({energy_plot.Draw(), error_plot.Draw()});
+}
+
+int RunColumbiaEval(const EvalOptions& options) {
+  ApplyLogLevel(options.common);
+  if (options.json) spdlog::set_level(spdlog::level::warn);
+  const std::filesystem::path dir =
+      options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
+  std::vector<ColumbiaCrop> crops;
+  int index = 0;
+  for (const ColumbiaCrop& crop : ListColumbia(dir)) {
+    const bool subject_ok = options.subjects.empty() ||
+                            std::find(options.subjects.begin(), options.subjects.end(), crop.subject) != options.subjects.end();
+    const bool pose_ok = options.poses.empty() || std::find(options.poses.begin(), options.poses.end(), crop.head_pose) != options.poses.end();
+    if (subject_ok && pose_ok && index++ % options.every == 0) crops.push_back(crop);
+  }
+  if (crops.empty()) Fail(ExitCode::kBadInput, "no crops in {} match the filters", dir.string());
+  const Assets assets = Assets::Resolve(options.common.assets);
+  const auto model = EyeRegionModel::Load(assets);
+  FitOptions fit_options;
+  fit_options.work_width = 128;
+  if (options.iterations > 0) fit_options.max_iterations = options.iterations;
+  for (const std::string& assignment : options.fit_options) SetFitOption(fit_options, assignment);
+  Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
+  Timer timer;
+  const std::vector<ColumbiaFit> fits = FitColumbia(crops, model, fit_options, options.threads,
+                                                    [&](int done) { progress.Update(done); });
+  const double seconds = timer.Seconds();
+  progress.Finish();
+
+  std::map<int, std::vector<const ColumbiaFit*>> by_pose;
+  std::vector<const ColumbiaFit*> all;
+  for (const ColumbiaFit& fit : fits) by_pose[fit.crop.head_pose].push_back(&fit), all.push_back(&fit);
+  const ErrorSummary overall = Summarise(all);
+  const double fits_per_s = fits.size() / seconds;
+
+  if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
+  if (!options.csv.empty()) {
+    CsvWriter csv(options.csv, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "pitch", "yaw",
+                                "pitch_error", "yaw_error", "seconds"});
+    for (const ColumbiaFit& fit : fits) {
+      csv.AddRow({fit.crop.path.filename().string(), fit.crop.subject, std::to_string(fit.crop.head_pose),
+                  std::to_string(fit.crop.vertical), std::to_string(fit.crop.horizontal), std::string(1, fit.crop.eye),
+                  fmt::format("{:.3f}", fit.pitch), fmt::format("{:.3f}", fit.yaw), fmt::format("{:.3f}", fit.pitch_error),
+                  fmt::format("{:.3f}", fit.yaw_error), fmt::format("{:.3f}", fit.seconds)});
+    }
+    csv.Finish();
+  }
+  if (options.json) {
+    nlohmann::json result = ToJson(overall);
+    result["fits_per_s"] = RoundTo(fits_per_s, 2);
+    result["threads"] = options.threads;
+    for (const auto& [pose, subset] : by_pose) result["by_head_pose"][std::to_string(pose)] = ToJson(Summarise(subset));
+    fmt::print("{}\n", result.dump());
+    return 0;
+  }
+  fmt::print("gaze error relative to the head on {} Columbia crops in {} (degrees)\n", fits.size(), dir.string());
+  fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>14} {:>14}\n", "head pose", "crops", "yaw mean", "median",
+             "pitch mean", "median", "zero yaw mean", "zero pitch mean");
+  auto row = [](const std::string& name, const ErrorSummary& s) {
+    fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>14.2f} {:>14.2f}\n", name, s.count, s.yaw_mean,
+               s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_pitch_mean);
+  };
+  for (const auto& [pose, subset] : by_pose) row(fmt::format("{}", pose), Summarise(subset));
+  row("all", overall);
+  fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
+  if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
+  return 0;
+}
 
 int RunLandmarkEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
@@ -61,8 +198,21 @@ Command RegisterEvalCommand(CLI::App& root) {
                         "dlib XML with marked faces (default: ../shared/data/dlib-faces/testing_with_face_landmarks.xml)");
   landmarks->add_flag("--json", options->json, "Print one JSON object");
   AddCommonOptions(*landmarks, options->common);
-  return {app, [options, landmarks] {
+  CLI::App* columbia = app->add_subcommand("columbia", "Gaze estimation error on Columbia Gaze eye crops (file-name labels)");
+  columbia->add_option("dir", options->columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
+  columbia->add_flag("--json", options->json, "Print one JSON object");
+  columbia->add_option("--plot", options->plot, "Write the convergence figure here (PNG)")->capture_default_str();
+  columbia->add_option("--csv", options->csv, "Write every crop's estimate and error here");
+  columbia->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
+  columbia->add_option("--poses", options->poses, "Only these head poses (e.g. 0 15)");
+  columbia->add_option("--every", options->every, "Take every Nth crop (a quick, spread-out sample)")->check(CLI::PositiveNumber);
+  columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
+  columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
+  columbia->add_option("--fit", options->fit_options, "Fitter options as name=value (" + fmt::format("{}", fmt::join(ListFitOptions(), ", ")) + ")");
+  AddCommonOptions(*columbia, options->common);
+  return {app, [options, landmarks, columbia] {
             if (landmarks->parsed()) return RunLandmarkEval(*options);
+            if (columbia->parsed()) return RunColumbiaEval(*options);
             return static_cast<int>(ExitCode::kUsage);
           }};
 }

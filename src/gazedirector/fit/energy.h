@@ -13,6 +13,7 @@ struct EnergyWeights {
   double shape = 2e-4;        // λ_geo, per squared standard deviation
   double texture = 2e-4;      // λ_tex
   double pose = 4e-5;         // λ_pose, per squared degree of eyelid-gaze mismatch
+  double vergence = 2e-5;     // per squared degree of vergence: the eyes' axes meet far away unless the image says otherwise
 };
 
 // The energy's terms for one Φ; image and landmarks are normalised by the
@@ -21,7 +22,7 @@ struct EnergyTerms {
   double image = 0;
   double landmarks = 0;
   double stats = 0;
-  double pose = 0;
+  double pose = 0;  // eyelid-gaze consistency and the vergence prior
   int foreground = 0;  // rendered pixels |P|
   double total() const { return image + landmarks + stats + pose; }
 };

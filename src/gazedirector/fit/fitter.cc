@@ -148,17 +148,26 @@ FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face
   const double scale = std::min(3.0, static_cast<double>(options_.work_width) / region.width);
   std::vector<Level> levels = Pyramid(image, region, camera, landmarks_, targets, weights, {true, true}, scale);
   ParameterMask free = options_.free;
-  FitResult result = Solve(levels, phi, free);
+  FitResult result = Solve(levels, phi, free, options_.gaze_search && start == nullptr);
   result.region = region;
   return result;
 }
 
 FitResult Fitter::FitEyePatch(const cv::Mat& crop, int eye, double corner_distance) {
+  return FitEyePatchAt(crop, eye, 0.0, 0.0, corner_distance);
+}
+
+FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
+                                 double head_yaw) {
   // A long lens: the crop is a small part of a distant face.
   const Camera camera{8.0 * crop.cols, 8.0 * crop.cols, 0.5 * (crop.cols - 1), 0.5 * (crop.rows - 1), crop.cols, crop.rows};
   Parameters phi;
+  phi.gaze_pitch() = pitch;
+  phi.gaze_yaw() = yaw;
+  phi.eyelid_pitch() = pitch;
+  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
   phi.interocular() = kAverageInterocularMm;
-  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 23.0 / (corner_distance * crop.cols));
+  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 27.0 / (corner_distance * crop.cols));
   // The eye's corners sit symmetrically about the crop's centre; the inner
   // corner is toward the nose (image left for the subject's left eye).
   const double half = 0.5 * corner_distance * crop.cols;
@@ -168,25 +177,23 @@ FitResult Fitter::FitEyePatch(const cv::Mat& crop, int eye, double corner_distan
                                              {eye, 1, centre - Eigen::Vector2d(inner_side * half, 0)}};
   phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, *model_, camera, corners);
 
-  // The crop's framing stands in for the landmarks: weak targets at the corners.
-  const LandmarkModel one_eye = landmarks_.OneEye(eye);
-  std::vector<Eigen::Vector2d> targets;
-  std::vector<double> weights;
-  for (const ModelLandmark& landmark : one_eye.landmarks()) {
-    const bool inner = landmark.terms.size() == 1 && landmark.terms[0].vertex == topology::kInnerCorner;
-    const bool outer = landmark.terms.size() == 1 && landmark.terms[0].vertex == topology::kOuterCorner;
-    targets.push_back(inner ? corners[0].pixel : outer ? corners[1].pixel : Eigen::Vector2d::Zero());
-    weights.push_back(inner || outer ? 0.15 : 0.0);
-  }
+  // The crop's framing stands in for the landmarks: the eye's centre (midway
+  // between the canthi) sits at the crop's centre. Not the corners
+  // themselves: a turned head brings them closer together on the image.
+  LandmarkModel framing = LandmarkModel::EyeCentre(eye);
+  const std::vector<Eigen::Vector2d> targets = {centre};
+  const std::vector<double> weights = {1.0};
   const double scale = std::min(4.0, static_cast<double>(options_.work_width) / crop.cols);
   std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
   std::vector<Level> levels =
-      Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, one_eye, targets, weights, eyes, scale);
-  // One eye cannot tell the interocular distance or the vergence.
+      Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, framing, targets, weights, eyes, scale);
+  // One eye cannot tell the interocular distance or the vergence, and the
+  // crops share one scale: the depth stays where the framing put it.
   ParameterMask free = options_.free;
-  for (Block block : {Block::kInterocular}) free[LayoutOf(block).offset] = false;
+  free[LayoutOf(Block::kInterocular).offset] = false;
   free[LayoutOf(Block::kGaze).offset + 2] = false;
-  FitResult result = Solve(levels, phi, free);
+  free[LayoutOf(Block::kTranslation).offset + 2] = false;
+  FitResult result = Solve(levels, phi, free, options_.gaze_search);
   result.region = cv::Rect2d(0, 0, crop.cols, crop.rows);
   return result;
 }
@@ -214,7 +221,7 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
   if (!linear.empty()) {
     main.renderer.LinearJacobian(phi, problem.camera(), main.buffers, linear_);
     const std::vector<int>& domain = problem.domain();
-    const int texture_prior_row = rows - 1 - kNumTextureModes;
+    const int texture_prior_row = rows - 2 - kNumTextureModes;
     for (const auto& [column, k] : linear) {
       auto out = jacobian_.col(column);
       out.setZero();
@@ -249,7 +256,7 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
   return terms.total();
 }
 
-FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& mask) {
+FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& mask, bool gaze_search) {
   std::vector<int> free;
   for (int i = 0; i < kNumParameters; ++i) {
     if (mask[i]) free.push_back(i);
@@ -298,6 +305,11 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
         }
       }
       result.iterations = iteration + 1;
+      if (gaze_search && iteration == 0) {
+        phi = SearchGaze(problem, phi);
+        accepted = true;
+        stalled = 0;
+      }
       if (!accepted || stalled >= 2) {
         result.converged = true;
         ++iteration;
@@ -313,6 +325,28 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   result.work_camera = finest.camera();
   Assess(result, finest);
   return result;
+}
+
+Parameters Fitter::SearchGaze(FittingProblem& problem, const Parameters& phi) {
+  std::vector<Parameters> candidates;
+  const double step = options_.gaze_search_step;
+  for (double pitch = -options_.gaze_search_pitch; pitch <= options_.gaze_search_pitch + 1e-9; pitch += step) {
+    for (double yaw = -options_.gaze_search_yaw; yaw <= options_.gaze_search_yaw + 1e-9; yaw += step) {
+      Parameters candidate = phi;
+      candidate.gaze_pitch() = pitch;
+      candidate.gaze_yaw() = yaw;
+      // The lids stay: moved with the gaze they could close over a
+      // hard-to-explain iris, which would look like a good fit.
+      ClampToBounds(candidate);
+      candidates.push_back(candidate);
+    }
+  }
+  candidates.push_back(phi);
+  std::vector<double> energies(candidates.size());
+  pool_->ParallelFor(static_cast<int>(candidates.size()), [&](int i, int worker) {
+    energies[i] = problem.Evaluate(candidates[i], *workspaces_[worker], nullptr).total();
+  });
+  return candidates[std::min_element(energies.begin(), energies.end()) - energies.begin()];
 }
 
 void Fitter::Assess(FitResult& result, const FittingProblem& problem) const {

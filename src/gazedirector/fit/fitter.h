@@ -29,6 +29,13 @@ struct FitOptions {
   double step_growth = 0.1;
   double landmark_final = 0.5;
   bool record_history = false;    // keep every iterate (for plots)
+  // After the first iteration, try a grid of gaze directions (lids following)
+  // and go on from the best: Gauss-Newton alone can stall in the nearest
+  // local minimum. Off for warm starts, whose gaze is already close.
+  bool gaze_search = true;
+  double gaze_search_yaw = 30;    // the grid spans +-this many degrees of yaw
+  double gaze_search_pitch = 20;  // and of pitch
+  double gaze_search_step = 5;
 };
 
 struct FitIteration {
@@ -67,9 +74,12 @@ class Fitter {
   FitResult FitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters* start = nullptr);
 
   // One eye region in a crop of a single eye (as the Columbia crops): the eye
-  // sits at the crop's centre, its corners `corner_distance` of the crop's
-  // width apart. `eye` is the subject's (kLeftEye is the image-right eye).
-  FitResult FitEyePatch(const cv::Mat& crop, int eye, double corner_distance = 0.62);
+  // sits at the crop's centre, its corners (the canthi) `corner_distance` of
+  // the crop's width apart (0.76 in the Columbia crops, measured on their mean). `eye` is the subject's (kLeftEye is the image-right eye).
+  FitResult FitEyePatch(const cv::Mat& crop, int eye, double corner_distance = 0.76);
+  // The same, starting from a given gaze (pitch, yaw in degrees; the lids follow).
+  FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance = 0.76,
+                          double head_yaw = 0.0);
 
   FitOptions& options() { return options_; }
   const FitOptions& options() const { return options_; }
@@ -83,7 +93,9 @@ class Fitter {
   struct Level {
     std::unique_ptr<FittingProblem> problem;
   };
-  FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free);
+  FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free, bool gaze_search);
+  // The grid point of gaze with the lowest energy, from Φ.
+  Parameters SearchGaze(FittingProblem& problem, const Parameters& phi);
   // One Gauss-Newton linearisation at Φ: the residuals, J^T J and J^T r over `free`.
   double Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
                    Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);

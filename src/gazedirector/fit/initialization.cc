@@ -17,8 +17,10 @@ std::array<Eigen::Vector3d, 2> ModelEyeCorners(const Parameters& phi, const EyeR
   const Eigen::Vector3d centre = EyeRegionModel::EyeCentreInHead(phi, eye);
   const Eigen::Matrix3d rotation = phi.rotation();
   const auto& mean = model.shape_model().mean();
-  return {rotation * (centre + to_head * mean.col(topology::kInnerCorner)) + phi.translation(),
-          rotation * (centre + to_head * mean.col(topology::kOuterCorner)) + phi.translation()};
+  const Eigen::Vector3d inner = (1 - topology::kInnerCanthusWeightB) * mean.col(topology::kInnerCanthusA) +
+                                topology::kInnerCanthusWeightB * mean.col(topology::kInnerCanthusB);
+  return {rotation * (centre + to_head * inner) + phi.translation(),
+          rotation * (centre + to_head * mean.col(topology::kOuterCanthus)) + phi.translation()};
 }
 
 Eigen::Vector3d FitTranslationToCorners(const Parameters& start, const EyeRegionModel& model, const Camera& camera,

@@ -16,8 +16,8 @@ inline constexpr double kAverageInterocularMm = 63.0;
 // texture, an average iris, gaze straight ahead and a basic light.
 Parameters InitializeFromLandmarks(const Face& face, const Camera& camera, const EyeRegionModel& model);
 
-// The model's eye corners (inner, outer) of one eye in the camera frame for Φ,
-// with the mean shape and resting lids.
+// The model's eye corners (the canthi: inner, outer) of one eye in the camera
+// frame for Φ, with the mean shape and resting lids.
 std::array<Eigen::Vector3d, 2> ModelEyeCorners(const Parameters& phi, const EyeRegionModel& model, int eye);
 
 // Where an eye corner should appear: eye, corner (0 inner, 1 outer), pixel.

@@ -35,6 +35,11 @@ struct Curve {
   }
 };
 
+Terms InnerCanthus(int eye) {
+  return {{eye, topology::kInnerCanthusA, 1 - topology::kInnerCanthusWeightB},
+          {eye, topology::kInnerCanthusB, topology::kInnerCanthusWeightB}};
+}
+
 Curve VertexCurve(const std::vector<int>& vertices, int eye) {
   Curve curve;
   for (int v : vertices) curve.points.push_back({{eye, v, 1.0}});
@@ -58,14 +63,14 @@ LandmarkModel::LandmarkModel(const EyeRegionModel& model) {
   };
   for (int eye = 0; eye < 2; ++eye) {
     const EyeIndices& dlib = indices[eye];
-    landmarks_.push_back({dlib.inner, LandmarkGroup::kEyelid, {{eye, topology::kInnerCorner, 1.0}}});
-    landmarks_.push_back({dlib.outer, LandmarkGroup::kEyelid, {{eye, topology::kOuterCorner, 1.0}}});
-    std::vector<int> upper = {topology::kInnerCorner};
-    upper.insert(upper.end(), topology::kUpperMargin.begin(), topology::kUpperMargin.end());
-    upper.push_back(topology::kOuterCorner);
-    std::vector<int> lower = {topology::kInnerCorner};
-    lower.insert(lower.end(), topology::kLowerMargin.rbegin(), topology::kLowerMargin.rend());
-    lower.push_back(topology::kOuterCorner);
+    landmarks_.push_back({dlib.inner, LandmarkGroup::kEyelid, InnerCanthus(eye)});
+    landmarks_.push_back({dlib.outer, LandmarkGroup::kEyelid, {{eye, topology::kOuterCanthus, 1.0}}});
+    // The visible rim of the opening (loop L0, around the caruncle): columns
+    // 0-10 run along the upper lid, 10-19 and back to 0 along the lower.
+    const auto& rim = topology::kLoops[0];
+    std::vector<int> upper(rim.begin(), rim.begin() + topology::kOuterCornerColumn + 1);
+    std::vector<int> lower = {rim[0]};
+    for (int c = topology::kLoopColumns - 1; c >= topology::kOuterCornerColumn; --c) lower.push_back(rim[c]);
     for (int k = 0; k < 2; ++k) {
       landmarks_.push_back({dlib.upper[k], LandmarkGroup::kEyelid, VertexCurve(upper, eye).At((k + 1) / 3.0, mean)});
       landmarks_.push_back({dlib.lower[k], LandmarkGroup::kEyelid, VertexCurve(lower, eye).At((k + 1) / 3.0, mean)});
@@ -96,6 +101,16 @@ void LandmarkModel::Project(const PosedModel& posed, const Camera& camera, std::
     }
     points[i] = camera.Project(p);
   }
+}
+
+LandmarkModel LandmarkModel::EyeCentre(int eye) {
+  LandmarkModel centre;
+  centre.landmarks_.push_back(
+      {-1, LandmarkGroup::kEyelid,
+       {{eye, topology::kInnerCanthusA, 0.5 * (1 - topology::kInnerCanthusWeightB)},
+        {eye, topology::kInnerCanthusB, 0.5 * topology::kInnerCanthusWeightB},
+        {eye, topology::kOuterCanthus, 0.5}}});
+  return centre;
 }
 
 LandmarkModel LandmarkModel::OneEye(int eye) const {

@@ -43,6 +43,9 @@ class LandmarkModel {
 
   // Only the landmarks of one eye (and no nose), for fitting a single eye.
   LandmarkModel OneEye(int eye) const;
+  // A single point midway between one eye's canthi: where a crop of the eye
+  // is centred.
+  static LandmarkModel EyeCentre(int eye);
 
  private:
   LandmarkModel() = default;

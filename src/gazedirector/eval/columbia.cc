@@ -1,0 +1,110 @@
+#include "gazedirector/eval/columbia.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <regex>
+#include <thread>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "gazedirector/geometry/rotation.h"
+#include "gazedirector/util/error.h"
+#include "gazedirector/util/interrupt.h"
+#include "gazedirector/util/timer.h"
+
+namespace gazedirector {
+namespace fs = std::filesystem;
+
+int ColumbiaCrop::ModelEye() const { return eye == 'L' ? kRightEye : kLeftEye; }
+
+bool ParseColumbiaName(const fs::path& path, ColumbiaCrop& crop) {
+  static const std::regex pattern(R"((\d{4})_2m_(-?\d+)P_(-?\d+)V_(-?\d+)H_([LR])\.jpg)");
+  std::smatch match;
+  const std::string name = path.filename().string();
+  if (!std::regex_match(name, match, pattern)) return false;
+  crop.path = path;
+  crop.subject = match[1];
+  crop.head_pose = std::stoi(match[2]);
+  crop.vertical = std::stoi(match[3]);
+  crop.horizontal = std::stoi(match[4]);
+  crop.eye = match[5].str()[0];
+  return true;
+}
+
+std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) Fail(ExitCode::kBadInput, "{}: not a folder of Columbia crops", dir.string());
+  std::vector<ColumbiaCrop> crops;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    ColumbiaCrop crop;
+    if (ParseColumbiaName(entry.path(), crop)) crops.push_back(crop);
+  }
+  std::sort(crops.begin(), crops.end(), [](const ColumbiaCrop& a, const ColumbiaCrop& b) { return a.path < b.path; });
+  if (crops.empty()) Fail(ExitCode::kBadInput, "{}: no files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
+  return crops;
+}
+
+double GazeAngleBetween(double pitch_a, double yaw_a, double pitch_b, double yaw_b) {
+  const Eigen::Vector3d a = EyeRegionModel::GazeInHead(pitch_a, yaw_a);
+  const Eigen::Vector3d b = EyeRegionModel::GazeInHead(pitch_b, yaw_b);
+  return RadToDeg(std::acos(std::clamp(a.dot(b), -1.0, 1.0)));
+}
+
+std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
+                                     const FitOptions& options, int threads,
+                                     const std::function<void(int)>& progress) {
+  std::vector<ColumbiaFit> fits(crops.size());
+  std::atomic<int> next{0}, done{0};
+  std::mutex progress_mutex;
+  std::exception_ptr error;
+  auto work = [&] {
+    try {
+      FitOptions recorded = options;
+      recorded.record_history = true;
+      // One fitter per thread, each with a single worker: many small fits go
+      // faster side by side than one at a time.
+      Fitter fitter(model, recorded, std::make_shared<ThreadPool>(1));
+      for (int i; (i = next++) < static_cast<int>(crops.size());) {
+        if (InterruptRequested()) return;
+        const ColumbiaCrop& crop = crops[i];
+        const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
+        if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
+        Timer timer;
+        const FitResult result = fitter.FitEyePatch(image, crop.ModelEye());
+        ColumbiaFit& fit = fits[i];
+        fit.crop = crop;
+        fit.seconds = timer.Seconds();
+        fit.pitch = result.phi.gaze_pitch();
+        fit.yaw = EyeRegionModel::EyeYaw(result.phi, crop.ModelEye());
+        fit.pitch_error = std::abs(fit.pitch - crop.vertical);
+        fit.yaw_error = std::abs(fit.yaw - crop.horizontal);
+        for (const FitIteration& iterate : result.history) {
+          fit.energy_by_iteration.push_back(iterate.terms.image);
+          fit.gaze_error_by_iteration.push_back(GazeAngleBetween(iterate.phi.gaze_pitch(),
+                                                                 EyeRegionModel::EyeYaw(iterate.phi, crop.ModelEye()),
+                                                                 crop.vertical, crop.horizontal));
+        }
+        const int finished = ++done;
+        if (progress) {
+          std::lock_guard<std::mutex> lock(progress_mutex);
+          progress(finished);
+        }
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      if (!error) error = std::current_exception();
+      next = static_cast<int>(crops.size());
+    }
+  };
+  std::vector<std::thread> workers;
+  for (int t = 1; t < std::max(1, threads); ++t) workers.emplace_back(work);
+  work();
+  for (std::thread& worker : workers) worker.join();
+  if (error) std::rethrow_exception(error);
+  ThrowIfInterrupted();
+  return fits;
+}
+
+}  // namespace gazedirector

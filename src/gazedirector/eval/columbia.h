@@ -1,0 +1,51 @@
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gazedirector/fit/fitter.h"
+
+namespace gazedirector {
+
+// One crop of the Columbia Gaze data set, named SSSS_2m_{P}P_{V}V_{H}H_{E}.jpg.
+struct ColumbiaCrop {
+  std::filesystem::path path;
+  std::string subject;
+  int head_pose = 0;  // P: the camera's horizontal position around the head, degrees
+  int vertical = 0;   // V: gaze target elevation, degrees (up +)
+  int horizontal = 0;  // H: gaze target azimuth, degrees (toward image right at P = 0)
+  char eye = 'L';     // L: the image-left eye (the subject's right); R: the subject's left
+  int ModelEye() const;
+};
+
+// Parses a crop's file name; false when it is not one.
+bool ParseColumbiaName(const std::filesystem::path& path, ColumbiaCrop& crop);
+// Every crop in `dir`, sorted by name.
+std::vector<ColumbiaCrop> ListColumbia(const std::filesystem::path& dir);
+
+// The fit of one crop, compared with its label. Gaze relative to the head:
+// the model's eyeball pitch and yaw in its eye-region frame, in degrees.
+struct ColumbiaFit {
+  ColumbiaCrop crop;
+  double pitch = 0, yaw = 0;
+  double pitch_error = 0, yaw_error = 0;  // absolute, degrees
+  double seconds = 0;
+  // Per Gauss-Newton iterate (0: the start): photometric energy and gaze
+  // error (degrees, the angle between estimated and labelled directions).
+  std::vector<double> energy_by_iteration;
+  std::vector<double> gaze_error_by_iteration;
+};
+
+// Fits every crop with `threads` fitters working side by side; `progress`
+// is called after each crop.
+std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
+                                     const FitOptions& options, int threads,
+                                     const std::function<void(int done)>& progress = nullptr);
+
+// The angle between two gaze directions given as pitch and yaw (degrees).
+double GazeAngleBetween(double pitch_a, double yaw_a, double pitch_b, double yaw_b);
+
+}  // namespace gazedirector

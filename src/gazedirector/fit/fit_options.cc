@@ -1,0 +1,88 @@
+#include "gazedirector/fit/fit_options.h"
+
+#include <functional>
+#include <map>
+
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace {
+
+using Accessor = std::function<double&(FitOptions&)>;
+
+const std::map<std::string, Accessor>& Options() {
+  static const std::map<std::string, Accessor> options = {
+      {"truncation", [](FitOptions& o) -> double& { return o.weights.truncation; }},
+      {"landmarks", [](FitOptions& o) -> double& { return o.weights.landmarks; }},
+      {"brow_factor", [](FitOptions& o) -> double& { return o.weights.brow_factor; }},
+      {"nose_factor", [](FitOptions& o) -> double& { return o.weights.nose_factor; }},
+      {"shape_prior", [](FitOptions& o) -> double& { return o.weights.shape; }},
+      {"texture_prior", [](FitOptions& o) -> double& { return o.weights.texture; }},
+      {"pose_prior", [](FitOptions& o) -> double& { return o.weights.pose; }},
+      {"vergence_prior", [](FitOptions& o) -> double& { return o.weights.vergence; }},
+      {"tolerance", [](FitOptions& o) -> double& { return o.tolerance; }},
+      {"first_step", [](FitOptions& o) -> double& { return o.first_step; }},
+      {"step_growth", [](FitOptions& o) -> double& { return o.step_growth; }},
+      {"landmark_final", [](FitOptions& o) -> double& { return o.landmark_final; }},
+  };
+  return options;
+}
+
+}  // namespace
+
+void SetFitOption(FitOptions& options, const std::string& assignment) {
+  const auto equals = assignment.find('=');
+  if (equals == std::string::npos) Fail(ExitCode::kUsage, "fit option '{}': expected name=value", assignment);
+  const std::string name = assignment.substr(0, equals);
+  double value = 0;
+  try {
+    std::size_t used = 0;
+    value = std::stod(assignment.substr(equals + 1), &used);
+    if (used != assignment.size() - equals - 1) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    Fail(ExitCode::kUsage, "fit option '{}': the value is not a number", assignment);
+  }
+  if (name == "iterations") {
+    if (value < 1 || value > 1000) Fail(ExitCode::kUsage, "fit option iterations must be 1..1000");
+    options.max_iterations = static_cast<int>(value);
+    return;
+  }
+  if (name == "work_width") {
+    if (value < 32 || value > 2000) Fail(ExitCode::kUsage, "fit option work_width must be 32..2000");
+    options.work_width = static_cast<int>(value);
+    return;
+  }
+  if (name == "hold_rotation") {  // keep the eye region's rotation at its start
+    for (int i = 0; i < 3; ++i) options.free[LayoutOf(Block::kRotation).offset + i] = value == 0;
+    return;
+  }
+  if (name == "gaze_search") {
+    options.gaze_search = value != 0;
+    return;
+  }
+  if (name == "coarse_to_fine") {
+    options.coarse_to_fine = value != 0;
+    return;
+  }
+  const auto found = Options().find(name);
+  if (found == Options().end()) Fail(ExitCode::kUsage, "unknown fit option '{}' (see --help)", name);
+  if (value < 0) Fail(ExitCode::kUsage, "fit option {} must not be negative", name);
+  found->second(options) = value;
+}
+
+std::vector<std::string> ListFitOptions() {
+  std::vector<std::string> names = {"iterations", "work_width", "coarse_to_fine", "hold_rotation", "gaze_search"};
+  for (const auto& [name, accessor] : Options()) names.push_back(name);
+  return names;
+}
+
+nlohmann::json FitOptionsToJson(const FitOptions& options) {
+  nlohmann::json json = {{"iterations", options.max_iterations},
+                         {"work_width", options.work_width},
+                         {"coarse_to_fine", options.coarse_to_fine}};
+  FitOptions copy = options;
+  for (const auto& [name, accessor] : Options()) json[name] = accessor(copy);
+  return json;
+}
+
+}  // namespace gazedirector

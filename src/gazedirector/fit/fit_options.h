@@ -1,0 +1,18 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gazedirector/fit/fitter.h"
+
+namespace gazedirector {
+
+// The fitter's named options, settable as "name=value" (for example
+// "truncation=0.2" or "iterations=24"); ListFitOptions() names them all.
+void SetFitOption(FitOptions& options, const std::string& assignment);
+std::vector<std::string> ListFitOptions();
+nlohmann::json FitOptionsToJson(const FitOptions& options);
+
+}  // namespace gazedirector

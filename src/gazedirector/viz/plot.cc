@@ -1,0 +1,124 @@
+#include "gazedirector/viz/plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/util/statistics.h"
+
+namespace gazedirector {
+namespace {
+
+double RoundStep(double span, int ticks) {
+  const double raw = span / std::max(ticks, 1);
+  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double factor : {1.0, 2.0, 2.5, 5.0, 10.0}) {
+    if (factor * magnitude >= raw) return factor * magnitude;
+  }
+  return 10 * magnitude;
+}
+
+std::string TickLabel(double value, double step) {
+  const int decimals = step >= 1 ? 0 : static_cast<int>(std::ceil(-std::log10(step)));
+  return fmt::format("{:.{}f}", value, decimals);
+}
+
+}  // namespace
+
+void LinePlot::AddSeries(std::string name, std::vector<double> x, std::vector<double> y, cv::Scalar colour,
+                         std::vector<double> low, std::vector<double> high) {
+  series_.push_back({std::move(name), std::move(x), std::move(y), std::move(low), std::move(high), colour});
+}
+
+cv::Mat LinePlot::Draw(int width, int height) const {
+  cv::Mat canvas(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  const int left = 70, right = 20, top = 40, bottom = 55;
+  const cv::Rect area(left, top, width - left - right, height - top - bottom);
+  double x0 = x_min_, x1 = x_max_, y0 = y_min_, y1 = y_max_;
+  if (!fixed_x_ || !fixed_y_) {
+    double xa = std::numeric_limits<double>::max(), xb = -xa, ya = xa, yb = -xa;
+    for (const Series& s : series_) {
+      for (double v : s.x) xa = std::min(xa, v), xb = std::max(xb, v);
+      for (const auto* values : {&s.y, &s.low, &s.high}) {
+        for (double v : *values) {
+          if (std::isfinite(v)) ya = std::min(ya, v), yb = std::max(yb, v);
+        }
+      }
+    }
+    if (!fixed_x_ && xb > xa) x0 = xa, x1 = xb;
+    if (!fixed_y_ && yb > ya) y0 = std::min(0.0, ya), y1 = yb * 1.05;
+  }
+  auto to_pixel = [&](double x, double y) {
+    return cv::Point2d(area.x + (x - x0) / (x1 - x0) * area.width, area.y + area.height - (y - y0) / (y1 - y0) * area.height);
+  };
+  const cv::Scalar grey(200, 200, 200), ink(40, 40, 40);
+  const double y_step = RoundStep(y1 - y0, 5), x_step = RoundStep(x1 - x0, 8);
+  for (double y = std::ceil(y0 / y_step) * y_step; y <= y1 + 1e-9; y += y_step) {
+    const cv::Point2d p = to_pixel(x0, y);
+    cv::line(canvas, p, to_pixel(x1, y), grey, 1);
+    cv::putText(canvas, TickLabel(y, y_step), p + cv::Point2d(-60, 4), cv::FONT_HERSHEY_SIMPLEX, 0.4, ink, 1, cv::LINE_AA);
+  }
+  for (double x = std::ceil(x0 / x_step) * x_step; x <= x1 + 1e-9; x += x_step) {
+    const cv::Point2d p = to_pixel(x, y0);
+    cv::line(canvas, p, p + cv::Point2d(0, 4), ink, 1);
+    cv::putText(canvas, TickLabel(x, x_step), p + cv::Point2d(-8, 18), cv::FONT_HERSHEY_SIMPLEX, 0.4, ink, 1, cv::LINE_AA);
+  }
+  cv::rectangle(canvas, area, ink, 1);
+  for (const Series& s : series_) {
+    if (!s.low.empty() && s.low.size() == s.x.size() && s.high.size() == s.x.size()) {
+      std::vector<cv::Point> band;
+      for (std::size_t i = 0; i < s.x.size(); ++i) band.push_back(to_pixel(s.x[i], s.high[i]));
+      for (std::size_t i = s.x.size(); i-- > 0;) band.push_back(to_pixel(s.x[i], s.low[i]));
+      cv::Mat layer = canvas.clone();
+      cv::fillPoly(layer, std::vector<std::vector<cv::Point>>{band}, s.colour, cv::LINE_AA);
+      cv::addWeighted(layer, 0.25, canvas, 0.75, 0, canvas);
+    }
+    for (std::size_t i = 1; i < s.x.size(); ++i) {
+      cv::line(canvas, to_pixel(s.x[i - 1], s.y[i - 1]), to_pixel(s.x[i], s.y[i]), s.colour, 2, cv::LINE_AA);
+    }
+  }
+  int legend_y = top + 18;
+  for (const Series& s : series_) {
+    cv::line(canvas, {area.x + area.width - 150, legend_y - 4}, {area.x + area.width - 130, legend_y - 4}, s.colour, 2);
+    cv::putText(canvas, s.name, {area.x + area.width - 124, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, cv::LINE_AA);
+    legend_y += 18;
+  }
+  cv::putText(canvas, title_, {left, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.55, ink, 1, cv::LINE_AA);
+  cv::putText(canvas, x_label_, {area.x + area.width / 2 - 60, height - 12}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1, cv::LINE_AA);
+  cv::Mat rotated(30, area.height, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::putText(rotated, y_label_, {area.height / 2 - static_cast<int>(3.5 * y_label_.size()), 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1, cv::LINE_AA);
+  cv::rotate(rotated, rotated, cv::ROTATE_90_COUNTERCLOCKWISE);
+  rotated.copyTo(canvas(cv::Rect(2, area.y, rotated.cols, rotated.rows)));
+  return canvas;
+}
+
+QuantileCurves QuantilesByIndex(const std::vector<std::vector<double>>& sequences, int length) {
+  QuantileCurves curves;
+  for (int i = 0; i < length; ++i) {
+    std::vector<double> values;
+    for (const auto& sequence : sequences) {
+      if (!sequence.empty()) values.push_back(sequence[std::min<std::size_t>(i, sequence.size() - 1)]);
+    }
+    curves.median.push_back(Median(values));
+    curves.q25.push_back(Quantile(values, 0.25));
+    curves.q75.push_back(Quantile(values, 0.75));
+  }
+  return curves;
+}
+
+cv::Mat SideBySide(const std::vector<cv::Mat>& pictures, int gap) {
+  int width = gap, height = 0;
+  for (const cv::Mat& p : pictures) width += p.cols + gap, height = std::max(height, p.rows);
+  cv::Mat canvas(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  int x = gap;
+  for (const cv::Mat& p : pictures) {
+    p.copyTo(canvas(cv::Rect(x, 0, p.cols, p.rows)));
+    x += p.cols + gap;
+  }
+  return canvas;
+}
+
+}  // namespace gazedirector
