@@ -13,6 +13,7 @@ struct EnergyWeights {
   double shape = 2e-4;        // λ_geo, per squared standard deviation
   double texture = 2e-4;      // λ_tex
   double pose = 4e-5;         // λ_pose, per squared degree of eyelid-gaze mismatch
+  double closure = 1e-5;      // per squared degree of eyelid closure: open eyes unless the image says otherwise
   double vergence = 2e-5;     // per squared degree of vergence: the eyes' axes meet far away unless the image says otherwise
 };
 

@@ -20,6 +20,7 @@ const std::map<std::string, Accessor>& Options() {
       {"texture_prior", [](FitOptions& o) -> double& { return o.weights.texture; }},
       {"pose_prior", [](FitOptions& o) -> double& { return o.weights.pose; }},
       {"vergence_prior", [](FitOptions& o) -> double& { return o.weights.vergence; }},
+      {"closure_prior", [](FitOptions& o) -> double& { return o.weights.closure; }},
       {"tolerance", [](FitOptions& o) -> double& { return o.tolerance; }},
       {"first_step", [](FitOptions& o) -> double& { return o.first_step; }},
       {"step_growth", [](FitOptions& o) -> double& { return o.step_growth; }},
@@ -56,6 +57,10 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
     for (int i = 0; i < 3; ++i) options.free[LayoutOf(Block::kRotation).offset + i] = value == 0;
     return;
   }
+  if (name == "hold_shape") {  // keep the shape PCA at its start (the mean)
+    for (int i = 0; i < kNumShapeModes; ++i) options.free[LayoutOf(Block::kShape).offset + i] = value == 0;
+    return;
+  }
   if (name == "gaze_search") {
     options.gaze_search = value != 0;
     return;
@@ -71,7 +76,7 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
 }
 
 std::vector<std::string> ListFitOptions() {
-  std::vector<std::string> names = {"iterations", "work_width", "coarse_to_fine", "hold_rotation", "gaze_search"};
+  std::vector<std::string> names = {"iterations", "work_width", "coarse_to_fine", "hold_rotation", "hold_shape", "gaze_search"};
   for (const auto& [name, accessor] : Options()) names.push_back(name);
   return names;
 }

@@ -56,6 +56,7 @@ void ClampToBounds(Parameters& phi) {
   clamp_block(Block::kScleraTint, 0.0, 2.0);
   clamp_block(Block::kInterocular, 50, 76);
   clamp_block(Block::kEyelid, -40, 40);
+  clamp_block(Block::kEyelidClosure, -10, 45);
   clamp_block(Block::kAmbient, 0.0, 3.0);
   clamp_block(Block::kLightColour, 0.0, 3.0);
   clamp_block(Block::kLightDirection, -80, 80);
@@ -77,7 +78,8 @@ double Fitter::StepSize(int index, const Parameters& phi, const Camera& camera) 
     case Block::kTranslation: return element < 2 ? half_pixel_mm : half_pixel_mm * depth / 25.0;
     case Block::kInterocular: return 2 * half_pixel_mm;
     case Block::kGaze: return std::clamp(RadToDeg(half_pixel_mm / 10.75) * (element == 2 ? 2 : 1), 0.1, 3.0);
-    case Block::kEyelid: return std::clamp(RadToDeg(half_pixel_mm / 12.0), 0.2, 3.0);
+    case Block::kEyelid:
+    case Block::kEyelidClosure: return std::clamp(RadToDeg(half_pixel_mm / 12.0), 0.2, 3.0);
     case Block::kLightDirection: return 3.0;
     default: return 0.02;  // linear parameters have exact derivatives; this is unused
   }
@@ -148,7 +150,7 @@ FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face
   const double scale = std::min(3.0, static_cast<double>(options_.work_width) / region.width);
   std::vector<Level> levels = Pyramid(image, region, camera, landmarks_, targets, weights, {true, true}, scale);
   ParameterMask free = options_.free;
-  FitResult result = Solve(levels, phi, free, options_.gaze_search && start == nullptr);
+  FitResult result = Solve(levels, phi, free, start == nullptr);
   result.region = region;
   return result;
 }
@@ -157,43 +159,55 @@ FitResult Fitter::FitEyePatch(const cv::Mat& crop, int eye, double corner_distan
   return FitEyePatchAt(crop, eye, 0.0, 0.0, corner_distance);
 }
 
-FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
-                                 double head_yaw) {
+Camera Fitter::EyePatchCamera(cv::Size crop) {
   // A long lens: the crop is a small part of a distant face.
-  const Camera camera{8.0 * crop.cols, 8.0 * crop.cols, 0.5 * (crop.cols - 1), 0.5 * (crop.rows - 1), crop.cols, crop.rows};
+  return {8.0 * crop.width, 8.0 * crop.width, 0.5 * (crop.width - 1), 0.5 * (crop.height - 1), crop.width, crop.height};
+}
+
+Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance) const {
+  const Camera camera = EyePatchCamera(crop);
   Parameters phi;
-  phi.gaze_pitch() = pitch;
-  phi.gaze_yaw() = yaw;
-  phi.eyelid_pitch() = pitch;
-  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
   phi.interocular() = kAverageInterocularMm;
-  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 27.0 / (corner_distance * crop.cols));
+  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 27.0 / (corner_distance * crop.width));
   // The eye's corners sit symmetrically about the crop's centre; the inner
   // corner is toward the nose (image left for the subject's left eye).
-  const double half = 0.5 * corner_distance * crop.cols;
+  const double half = 0.5 * corner_distance * crop.width;
   const Eigen::Vector2d centre(camera.cx, camera.cy);
   const double inner_side = eye == kLeftEye ? -1.0 : 1.0;
   const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * half, 0)},
                                              {eye, 1, centre - Eigen::Vector2d(inner_side * half, 0)}};
   phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, *model_, camera, corners);
+  return phi;
+}
 
-  // The crop's framing stands in for the landmarks: the eye's centre (midway
-  // between the canthi) sits at the crop's centre. Not the corners
-  // themselves: a turned head brings them closer together on the image.
-  LandmarkModel framing = LandmarkModel::EyeCentre(eye);
+FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
+                                 double head_yaw) {
+  const Camera camera = EyePatchCamera(crop.size());
+  Parameters phi = EyePatchStart(crop.size(), eye, corner_distance);
+  phi.gaze_pitch() = pitch;
+  phi.gaze_yaw() = yaw;
+  phi.eyelid_pitch() = pitch;
+  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
+  const Eigen::Vector2d centre(camera.cx, camera.cy);
+
+  // The crop's framing stands in for the landmarks: the mean of the eye's
+  // landmarks sits at the crop's centre. Not the corners themselves: a turned
+  // head brings them closer together on the image, and the lids move with
+  // vertical gaze.
+  const LandmarkModel framing = landmarks_.EyeCentre(eye);
   const std::vector<Eigen::Vector2d> targets = {centre};
-  const std::vector<double> weights = {1.0};
+  static const double framing_weight = std::getenv("GD_FRAMING") ? std::atof(std::getenv("GD_FRAMING")) : 1.0;
+  const std::vector<double> weights = {framing_weight};
   const double scale = std::min(4.0, static_cast<double>(options_.work_width) / crop.cols);
   std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
   std::vector<Level> levels =
       Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, framing, targets, weights, eyes, scale);
-  // One eye cannot tell the interocular distance or the vergence, and the
-  // crops share one scale: the depth stays where the framing put it.
+  // One eye cannot tell the interocular distance or the vergence.
   ParameterMask free = options_.free;
   free[LayoutOf(Block::kInterocular).offset] = false;
   free[LayoutOf(Block::kGaze).offset + 2] = false;
-  free[LayoutOf(Block::kTranslation).offset + 2] = false;
-  FitResult result = Solve(levels, phi, free, options_.gaze_search);
+  if (std::getenv("GD_HOLD_DEPTH")) free[LayoutOf(Block::kTranslation).offset + 2] = false;
+  FitResult result = Solve(levels, phi, free, /*fresh=*/true);
   result.region = cv::Rect2d(0, 0, crop.cols, crop.rows);
   return result;
 }
@@ -221,7 +235,7 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
   if (!linear.empty()) {
     main.renderer.LinearJacobian(phi, problem.camera(), main.buffers, linear_);
     const std::vector<int>& domain = problem.domain();
-    const int texture_prior_row = rows - 2 - kNumTextureModes;
+    const int texture_prior_row = rows - 3 - kNumTextureModes;
     for (const auto& [column, k] : linear) {
       auto out = jacobian_.col(column);
       out.setZero();
@@ -256,72 +270,105 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
   return terms.total();
 }
 
-FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& mask, bool gaze_search) {
+// Iterations of annealed Gauss-Newton on one pyramid level, from Φ; counts
+// the fit's iterations in `progress` (for the annealing schedule). Returns
+// whether it stopped because E stopped falling.
+bool Fitter::RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free, bool gaze_search,
+                      Parameters& phi, int& iteration, std::vector<FitIteration>* history) {
+  EvaluationWorkspace& main = *workspaces_[0];
+  const double base_landmarks = options_.weights.landmarks;
+  int stalled = 0;
+  for (int local = 0; local < budget; ++local, ++iteration) {
+    const double progress = options_.max_iterations > 1 ? static_cast<double>(iteration) / (options_.max_iterations - 1) : 1.0;
+    problem.weights().landmarks = base_landmarks * (1.0 - (1.0 - options_.landmark_final) * progress);
+    const EnergyTerms current = problem.Evaluate(phi, main, nullptr);
+    problem.SetDomain(main.buffers, kDomainMargin);
+    if (history != nullptr && history->empty()) history->push_back({level, current, phi, 0.0});
+
+    Eigen::MatrixXd normal;
+    Eigen::VectorXd gradient;
+    const double energy = Linearize(problem, phi, free, normal, gradient);
+    Eigen::MatrixXd damped = normal;
+    damped.diagonal() += kDamping * normal.diagonal() + Eigen::VectorXd::Constant(normal.rows(), 1e-12);
+    const Eigen::VectorXd step = -damped.ldlt().solve(gradient);
+    if (!step.allFinite()) return true;
+
+    // Annealed step, halved until the energy falls.
+    double eta = std::min(1.0, options_.first_step + options_.step_growth * iteration);
+    bool accepted = false;
+    for (int attempt = 0; attempt <= kMaxBacktracks && !accepted; ++attempt, eta *= 0.5) {
+      Parameters trial = phi;
+      for (std::size_t k = 0; k < free.size(); ++k) trial[free[k]] += eta * step[static_cast<Eigen::Index>(k)];
+      ClampToBounds(trial);
+      const EnergyTerms terms = problem.Evaluate(trial, main, nullptr);
+      if (terms.foreground > 0 && terms.total() < energy) {
+        const double decrease = (energy - terms.total()) / std::max(energy, 1e-12);
+        phi = trial;
+        accepted = true;
+        stalled = decrease < options_.tolerance ? stalled + 1 : 0;
+        if (history != nullptr) history->push_back({level, terms, phi, eta});
+      }
+    }
+    if (gaze_search && local == 0) {
+      phi = SearchGaze(problem, phi);
+      accepted = true;
+      stalled = 0;
+    }
+    if (!accepted || stalled >= 2) {
+      ++iteration;
+      problem.weights().landmarks = base_landmarks;
+      return true;
+    }
+  }
+  problem.weights().landmarks = base_landmarks;
+  return false;
+}
+
+FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& mask, bool fresh) {
   std::vector<int> free;
   for (int i = 0; i < kNumParameters; ++i) {
     if (mask[i]) free.push_back(i);
   }
   FitResult result;
   ClampToBounds(phi);
-  EvaluationWorkspace& main = *workspaces_[0];
   const int num_levels = static_cast<int>(levels.size());
+  std::vector<FitIteration>* history = options_.record_history ? &result.history : nullptr;
   int iteration = 0;
-  const double base_landmarks = options_.weights.landmarks;
-  for (int l = 0; l < num_levels; ++l) {
-    FittingProblem& problem = *levels[l].problem;
-    // The coarse level gets a third of the iterations.
-    const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
-    int stalled = 0;
-    for (int local = 0; local < budget; ++local, ++iteration) {
-      const double progress = options_.max_iterations > 1 ? static_cast<double>(iteration) / (options_.max_iterations - 1) : 1.0;
-      problem.weights().landmarks = base_landmarks * (1.0 - (1.0 - options_.landmark_final) * progress);
-      EnergyTerms current = problem.Evaluate(phi, main, nullptr);
-      problem.SetDomain(main.buffers, kDomainMargin);
-      if (options_.record_history && result.history.empty()) result.history.push_back({l, current, phi, 0.0});
-
-      Eigen::MatrixXd normal;
-      Eigen::VectorXd gradient;
-      const double energy = Linearize(problem, phi, free, normal, gradient);
-      Eigen::MatrixXd damped = normal;
-      damped.diagonal() += kDamping * normal.diagonal() + Eigen::VectorXd::Constant(normal.rows(), 1e-12);
-      const Eigen::VectorXd step = -damped.ldlt().solve(gradient);
-      if (!step.allFinite()) break;
-
-      // Annealed step, halved until the energy falls.
-      double eta = std::min(1.0, options_.first_step + options_.step_growth * iteration);
-      bool accepted = false;
-      for (int attempt = 0; attempt <= kMaxBacktracks && !accepted; ++attempt, eta *= 0.5) {
-        Parameters trial = phi;
-        for (std::size_t k = 0; k < free.size(); ++k) trial[free[k]] += eta * step[static_cast<Eigen::Index>(k)];
-        ClampToBounds(trial);
-        const EnergyTerms terms = problem.Evaluate(trial, main, nullptr);
-        if (terms.foreground > 0 && terms.total() < energy) {
-          const double decrease = (energy - terms.total()) / std::max(energy, 1e-12);
-          phi = trial;
-          current = terms;
-          accepted = true;
-          stalled = decrease < options_.tolerance ? stalled + 1 : 0;
-          if (options_.record_history) result.history.push_back({l, terms, phi, eta});
-        }
-      }
-      result.iterations = iteration + 1;
-      if (gaze_search && iteration == 0) {
-        phi = SearchGaze(problem, phi);
-        accepted = true;
-        stalled = 0;
-      }
-      if (!accepted || stalled >= 2) {
-        result.converged = true;
-        ++iteration;
-        break;
-      }
+  int first_level = 0;
+  // A fresh fit starts the coarsest level from several gaze pitches and goes
+  // on from the lowest energy: pitch has more than one basin.
+  if (fresh && num_levels > 1 && options_.pitch_starts.size() > 1) {
+    const int budget = std::max(1, options_.max_iterations / 3);
+    double best = std::numeric_limits<double>::infinity();
+    Parameters best_phi = phi;
+    std::vector<FitIteration> best_history;
+    int best_iteration = 0;
+    for (double pitch : options_.pitch_starts) {
+      Parameters start = phi;
+      start.eyelid_pitch() += pitch - start.gaze_pitch();
+      start.gaze_pitch() = pitch;
+      ClampToBounds(start);
+      std::vector<FitIteration> start_history;
+      int start_iteration = 0;
+      RunLevel(*levels[0].problem, 0, budget, free, options_.gaze_search, start, start_iteration,
+               history ? &start_history : nullptr);
+      const double energy = levels[0].problem->Evaluate(start, *workspaces_[0], nullptr).total();
+      if (energy < best) best = energy, best_phi = start, best_history = start_history, best_iteration = start_iteration;
     }
+    phi = best_phi;
+    iteration = best_iteration;
+    if (history) *history = best_history;
+    first_level = 1;
   }
-  options_.weights.landmarks = base_landmarks;
+  for (int l = first_level; l < num_levels; ++l) {
+    const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
+    const bool search = fresh && options_.gaze_search && l == 0;
+    result.converged = RunLevel(*levels[l].problem, l, budget, free, search, phi, iteration, history);
+  }
+  result.iterations = iteration;
   FittingProblem& finest = *levels.back().problem;
-  finest.weights().landmarks = base_landmarks;
   result.phi = phi;
-  result.terms = finest.Evaluate(phi, main, nullptr);
+  result.terms = finest.Evaluate(phi, *workspaces_[0], nullptr);
   result.work_camera = finest.camera();
   Assess(result, finest);
   return result;

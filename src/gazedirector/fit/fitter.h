@@ -36,6 +36,9 @@ struct FitOptions {
   double gaze_search_yaw = 30;    // the grid spans +-this many degrees of yaw
   double gaze_search_pitch = 20;  // and of pitch
   double gaze_search_step = 5;
+  // A fresh fit runs the coarse level from each of these gaze pitches (degrees)
+  // and goes on from the best: pitch has several basins.
+  std::vector<double> pitch_starts = {-10, 0, 10};
 };
 
 struct FitIteration {
@@ -77,6 +80,9 @@ class Fitter {
   // sits at the crop's centre, its corners (the canthi) `corner_distance` of
   // the crop's width apart (0.76 in the Columbia crops, measured on their mean). `eye` is the subject's (kLeftEye is the image-right eye).
   FitResult FitEyePatch(const cv::Mat& crop, int eye, double corner_distance = 0.76);
+  // Where FitEyePatch starts: the eye placed by the crop's framing, mean shape.
+  Parameters EyePatchStart(cv::Size crop, int eye, double corner_distance = 0.76) const;
+  static Camera EyePatchCamera(cv::Size crop);
   // The same, starting from a given gaze (pitch, yaw in degrees; the lids follow).
   FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance = 0.76,
                           double head_yaw = 0.0);
@@ -93,7 +99,10 @@ class Fitter {
   struct Level {
     std::unique_ptr<FittingProblem> problem;
   };
-  FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free, bool gaze_search);
+  // `fresh`: not warm-started, so search gaze and try several pitches.
+  FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free, bool fresh);
+  bool RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free, bool gaze_search,
+                Parameters& phi, int& iteration, std::vector<FitIteration>* history);
   // The grid point of gaze with the lowest energy, from Φ.
   Parameters SearchGaze(FittingProblem& problem, const Parameters& phi);
   // One Gauss-Newton linearisation at Φ: the residuals, J^T J and J^T r over `free`.

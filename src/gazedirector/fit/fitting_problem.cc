@@ -35,7 +35,7 @@ void FittingProblem::SetDomain(const RenderBuffers& current, int margin) {
 }
 
 int FittingProblem::num_residuals() const {
-  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + 2;
+  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + 3;
 }
 
 float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) const {
@@ -80,7 +80,8 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   }
   terms.stats = weights_.shape * phi.shape().squaredNorm() + weights_.texture * phi.texture().squaredNorm();
   terms.pose = weights_.pose * std::pow(phi.eyelid_pitch() - phi.gaze_pitch(), 2) +
-               weights_.vergence * phi.vergence() * phi.vergence();
+               weights_.vergence * phi.vergence() * phi.vergence() +
+               weights_.closure * phi.eyelid_closure() * phi.eyelid_closure();
 
   if (residuals == nullptr) return terms;
   Eigen::VectorXf& r = *residuals;
@@ -111,6 +112,7 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   row += kNumTextureModes;
   r[row] = static_cast<float>(std::sqrt(weights_.pose) * (phi.eyelid_pitch() - phi.gaze_pitch()));
   r[row + 1] = static_cast<float>(std::sqrt(weights_.vergence) * phi.vergence());
+  r[row + 2] = static_cast<float>(std::sqrt(weights_.closure) * phi.eyelid_closure());
   return terms;
 }
 

@@ -31,7 +31,7 @@ struct EvaluationWorkspace {
 //   image      3 per pixel of the domain: (I_syn - I_obs) / sqrt|P|, capped at sqrt(T)
 //   landmarks  2 per landmark: (l' - l) sqrt(λ / |P|)
 //   stats      sqrt(λ_geo) β, sqrt(λ_tex) τ
-//   pose       sqrt(λ_pose) (θ_lid - θ_p), sqrt(λ_verg) θ_v
+//   pose       sqrt(λ_pose) (θ_lid - θ_p), sqrt(λ_verg) θ_v, sqrt(λ_close) θ_close
 class FittingProblem {
  public:
   FittingProblem(std::shared_ptr<const EyeRegionModel> model, const cv::Mat& observed_rgb, const Camera& camera,

@@ -103,14 +103,18 @@ void LandmarkModel::Project(const PosedModel& posed, const Camera& camera, std::
   }
 }
 
-LandmarkModel LandmarkModel::EyeCentre(int eye) {
-  LandmarkModel centre;
-  centre.landmarks_.push_back(
-      {-1, LandmarkGroup::kEyelid,
-       {{eye, topology::kInnerCanthusA, 0.5 * (1 - topology::kInnerCanthusWeightB)},
-        {eye, topology::kInnerCanthusB, 0.5 * topology::kInnerCanthusWeightB},
-        {eye, topology::kOuterCanthus, 0.5}}});
-  return centre;
+LandmarkModel LandmarkModel::EyeCentre(int eye) const {
+  ModelLandmark centre{-1, LandmarkGroup::kEyelid, {}};
+  int count = 0;
+  for (const ModelLandmark& landmark : landmarks_) {
+    if (landmark.group != LandmarkGroup::kEyelid || landmark.terms.front().eye != eye) continue;
+    centre.terms.insert(centre.terms.end(), landmark.terms.begin(), landmark.terms.end());
+    ++count;
+  }
+  for (auto& term : centre.terms) term.weight /= count;
+  LandmarkModel result;
+  result.landmarks_.push_back(centre);
+  return result;
 }
 
 LandmarkModel LandmarkModel::OneEye(int eye) const {

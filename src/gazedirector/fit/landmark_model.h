@@ -43,9 +43,9 @@ class LandmarkModel {
 
   // Only the landmarks of one eye (and no nose), for fitting a single eye.
   LandmarkModel OneEye(int eye) const;
-  // A single point midway between one eye's canthi: where a crop of the eye
-  // is centred.
-  static LandmarkModel EyeCentre(int eye);
+  // A single point, the mean of one eye's six landmarks (canthi and lids),
+  // as a crop framed on those landmarks is centred: it moves with the lids.
+  LandmarkModel EyeCentre(int eye) const;
 
  private:
   LandmarkModel() = default;

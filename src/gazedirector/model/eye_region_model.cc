@@ -196,7 +196,7 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
 
     // Facial part: rig the lids, subdivide, place in the camera frame.
     work.rigged = work.shape;
-    rig_.Apply(phi.eyelid_pitch(), gaze_model * Eigen::Vector3d(0, -1, 0), work.rigged);
+    rig_.Apply(phi.eyelid_pitch(), phi.eyelid_closure(), gaze_model * Eigen::Vector3d(0, -1, 0), work.rigged);
     posed.region[eye] = work.rigged;
     // Normals of the coarse mesh, subdivided like the positions: a quarter of
     // the cross products of the fine mesh, and as smooth.

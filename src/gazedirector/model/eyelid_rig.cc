@@ -36,11 +36,13 @@ double LookDownBlend(double lid_pitch_deg) {
   return down * down;
 }
 
-void EyelidRig::Apply(double lid_pitch_deg, const Eigen::Vector3d& gaze, Eigen::Matrix3Xd& vertices) const {
+void EyelidRig::Apply(double lid_pitch_deg, double closure_deg, const Eigen::Vector3d& gaze,
+                      Eigen::Matrix3Xd& vertices) const {
   using topology::kLoopColumns;
   using topology::kLoops;
   const double gain = lid_pitch_deg > 0 ? settings_.up_gain : settings_.down_gain;
   const double lid_angle = DegToRad(lid_pitch_deg * gain);
+  const double closure = DegToRad(closure_deg);
   const Eigen::Vector3d inner = vertices.col(topology::kRigInnerCorner);
 
   std::array<std::array<Eigen::Vector3d, kLoopColumns>, kLoops.size()> offset;
@@ -49,11 +51,13 @@ void EyelidRig::Apply(double lid_pitch_deg, const Eigen::Vector3d& gaze, Eigen::
     const Eigen::Vector3d axis = (outer - inner).normalized();
     for (int c = 0; c < kLoopColumns; ++c) {
       offset[k][c].setZero();
-      if (c == 0 || c == topology::kOuterCornerColumn || lid_angle == 0.0) continue;
+      if (c == 0 || c == topology::kOuterCornerColumn || (lid_angle == 0.0 && closure == 0.0)) continue;
       const bool upper = c < topology::kOuterCornerColumn;
       const double along = upper ? c / 10.0 : (kLoopColumns - c) / 10.0;  // 0 inner corner .. 1 outer corner
       const double mid_lid = std::sin(kPi * along);
-      const double angle = lid_angle * settings_.loop_strength[k] * (upper ? 1.0 : settings_.lower_lid_ratio);
+      const double angle = settings_.loop_strength[k] * (upper ? lid_angle - closure
+                                                               : settings_.lower_lid_ratio * lid_angle +
+                                                                     settings_.lower_lid_closure * closure);
       const Eigen::Vector3d v = vertices.col(kLoops[k][c]);
       // The pivot slides from the corner axis toward the eyeball centre mid-lid.
       const Eigen::Vector3d on_axis = inner + (v - inner).dot(axis) * axis;

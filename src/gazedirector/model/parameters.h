@@ -24,6 +24,7 @@ enum class Block : int {
   kInterocular,     // θ_iod: distance between the eyeball centres
   kGaze,            // θ_p, θ_y, θ_v: gaze pitch (up +), yaw (toward the subject's left +), vergence (converging +)
   kEyelid,          // θ_lid: eyelid pitch (up +)
+  kEyelidClosure,   // θ_close: upper lid lowered (and lower lid raised) apart from the gaze, degrees; squints and blinks
   kAmbient,         // ι_amb: ambient light RGB
   kLightColour,     // ι_dir: directional light RGB
   kLightDirection,  // ι_R: direction toward the light, pitch (up +) and yaw (image right +), camera frame
@@ -39,7 +40,7 @@ struct BlockLayout {
 inline constexpr int kNumShapeModes = 16;
 inline constexpr int kNumTextureModes = 8;
 
-inline constexpr std::array<BlockLayout, 13> kBlockLayout = {{
+inline constexpr std::array<BlockLayout, 14> kBlockLayout = {{
     {Block::kShape, "shape_sd", 0, kNumShapeModes},
     {Block::kIrisSize, "iris_size", 16, 1},
     {Block::kTexture, "texture_sd", 17, kNumTextureModes},
@@ -50,12 +51,13 @@ inline constexpr std::array<BlockLayout, 13> kBlockLayout = {{
     {Block::kInterocular, "interocular_mm", 37, 1},
     {Block::kGaze, "gaze_pitch_yaw_vergence_deg", 38, 3},
     {Block::kEyelid, "eyelid_pitch_deg", 41, 1},
-    {Block::kAmbient, "ambient_rgb", 42, 3},
-    {Block::kLightColour, "light_rgb", 45, 3},
-    {Block::kLightDirection, "light_pitch_yaw_deg", 48, 2},
+    {Block::kEyelidClosure, "eyelid_closure_deg", 42, 1},
+    {Block::kAmbient, "ambient_rgb", 43, 3},
+    {Block::kLightColour, "light_rgb", 46, 3},
+    {Block::kLightDirection, "light_pitch_yaw_deg", 49, 2},
 }};
 
-inline constexpr int kNumParameters = 50;
+inline constexpr int kNumParameters = 51;
 
 constexpr const BlockLayout& LayoutOf(Block block) { return kBlockLayout[static_cast<int>(block)]; }
 
@@ -106,6 +108,8 @@ class Parameters {
   double vergence() const { return values[LayoutOf(Block::kGaze).offset + 2]; }
   double& eyelid_pitch() { return values[LayoutOf(Block::kEyelid).offset]; }
   double eyelid_pitch() const { return values[LayoutOf(Block::kEyelid).offset]; }
+  double& eyelid_closure() { return values[LayoutOf(Block::kEyelidClosure).offset]; }
+  double eyelid_closure() const { return values[LayoutOf(Block::kEyelidClosure).offset]; }
   Eigen::Vector3d ambient() const { return block<Block::kAmbient>(); }
   Eigen::Vector3d light_colour() const { return block<Block::kLightColour>(); }
   Eigen::Vector2d light_direction_deg() const { return block<Block::kLightDirection>(); }
