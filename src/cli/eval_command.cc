@@ -38,6 +38,7 @@ struct EvalOptions {
   int threads = 2;
   int iterations = 0;
   std::vector<std::string> fit_options;
+  bool known_head_pose = false;
 };
 
 // Mean and median absolute yaw and pitch errors of a set of fits.
@@ -111,7 +112,7 @@ int RunColumbiaEval(const EvalOptions& options) {
   for (const std::string& assignment : options.fit_options) SetFitOption(fit_options, assignment);
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;
-  const std::vector<ColumbiaFit> fits = FitColumbia(crops, model, fit_options, options.threads,
+  const std::vector<ColumbiaFit> fits = FitColumbia(crops, model, fit_options, options.threads, options.known_head_pose,
                                                     [&](int done) { progress.Update(done); });
   const double seconds = timer.Seconds();
   progress.Finish();
@@ -138,6 +139,7 @@ int RunColumbiaEval(const EvalOptions& options) {
     nlohmann::json result = ToJson(overall);
     result["fits_per_s"] = RoundTo(fits_per_s, 2);
     result["threads"] = options.threads;
+    result["head_pose"] = options.known_head_pose ? "known (P from the file name)" : "estimated";
     for (const auto& [pose, subset] : by_pose) result["by_head_pose"][std::to_string(pose)] = ToJson(Summarise(subset));
     fmt::print("{}\n", result.dump());
     return 0;
@@ -151,6 +153,7 @@ int RunColumbiaEval(const EvalOptions& options) {
   };
   for (const auto& [pose, subset] : by_pose) row(fmt::format("{}", pose), Summarise(subset));
   row("all", overall);
+  fmt::print("head pose: {}\n", options.known_head_pose ? "known (P from the file names)" : "estimated from each crop");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
   if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
   return 0;
@@ -208,6 +211,8 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--every", options->every, "Take every Nth crop (a quick, spread-out sample)")->check(CLI::PositiveNumber);
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
+  columbia->add_flag("--known-head-pose", options->known_head_pose,
+                     "Give the fitter the head's yaw from the file name (P) instead of estimating it from one eye");
   columbia->add_option("--fit", options->fit_options, "Fitter options as name=value (" + fmt::format("{}", fmt::join(ListFitOptions(), ", ")) + ")");
   AddCommonOptions(*columbia, options->common);
   return {app, [options, landmarks, columbia] {

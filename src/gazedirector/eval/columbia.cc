@@ -53,7 +53,7 @@ double GazeAngleBetween(double pitch_a, double yaw_a, double pitch_b, double yaw
 }
 
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
-                                     const FitOptions& options, int threads,
+                                     const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int)>& progress) {
   std::vector<ColumbiaFit> fits(crops.size());
   std::atomic<int> next{0}, done{0};
@@ -63,6 +63,7 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
     try {
       FitOptions recorded = options;
       recorded.record_history = true;
+      if (known_head_pose) recorded.free[LayoutOf(Block::kRotation).offset + 1] = false;
       // One fitter per thread, each with a single worker: many small fits go
       // faster side by side than one at a time.
       Fitter fitter(model, recorded, std::make_shared<ThreadPool>(1));
@@ -72,7 +73,8 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
         if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
         Timer timer;
-        const FitResult result = fitter.FitEyePatch(image, crop.ModelEye());
+        const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, 0.76,
+                                                      known_head_pose ? crop.head_pose : 0.0);
         ColumbiaFit& fit = fits[i];
         fit.crop = crop;
         fit.seconds = timer.Seconds();

@@ -41,8 +41,11 @@ struct ColumbiaFit {
 
 // Fits every crop with `threads` fitters working side by side; `progress`
 // is called after each crop.
+// With `known_head_pose`, the eye region's yaw is the crop's P and held
+// there (the camera's position around the head, from the file name), as when
+// a face tracker supplies the head pose; otherwise it is estimated.
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
-                                     const FitOptions& options, int threads,
+                                     const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int done)>& progress = nullptr);
 
 // The angle between two gaze directions given as pitch and yaw (degrees).

@@ -7,6 +7,9 @@ struct EnergyWeights {
   // T: a pixel's squared RGB error (colours in [0, 1]) counts at most T, the
   // robust ρ(e) = min(√T, e), so that highlights and glasses do not drag the fit.
   double truncation = 0.06;
+  // Pixels of the eyeballs count this many times: they carry the gaze, while
+  // the skin around them mostly does not.
+  double eyeball_pixels = 1.0;
   double landmarks = 2.0;     // λ_ldmks, for the lid points and corners
   double brow_factor = 0.2;   // brows and nose are marked less precisely
   double nose_factor = 0.2;

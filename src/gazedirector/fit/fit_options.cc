@@ -13,6 +13,7 @@ using Accessor = std::function<double&(FitOptions&)>;
 const std::map<std::string, Accessor>& Options() {
   static const std::map<std::string, Accessor> options = {
       {"truncation", [](FitOptions& o) -> double& { return o.weights.truncation; }},
+      {"eyeball_pixels", [](FitOptions& o) -> double& { return o.weights.eyeball_pixels; }},
       {"landmarks", [](FitOptions& o) -> double& { return o.weights.landmarks; }},
       {"brow_factor", [](FitOptions& o) -> double& { return o.weights.brow_factor; }},
       {"nose_factor", [](FitOptions& o) -> double& { return o.weights.nose_factor; }},

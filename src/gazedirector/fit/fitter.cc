@@ -196,8 +196,7 @@ FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, doub
   // vertical gaze.
   const LandmarkModel framing = landmarks_.EyeCentre(eye);
   const std::vector<Eigen::Vector2d> targets = {centre};
-  static const double framing_weight = std::getenv("GD_FRAMING") ? std::atof(std::getenv("GD_FRAMING")) : 1.0;
-  const std::vector<double> weights = {framing_weight};
+  const std::vector<double> weights = {1.0};
   const double scale = std::min(4.0, static_cast<double>(options_.work_width) / crop.cols);
   std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
   std::vector<Level> levels =
@@ -206,7 +205,6 @@ FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, doub
   ParameterMask free = options_.free;
   free[LayoutOf(Block::kInterocular).offset] = false;
   free[LayoutOf(Block::kGaze).offset + 2] = false;
-  if (std::getenv("GD_HOLD_DEPTH")) free[LayoutOf(Block::kTranslation).offset + 2] = false;
   FitResult result = Solve(levels, phi, free, /*fresh=*/true);
   result.region = cv::Rect2d(0, 0, crop.cols, crop.rows);
   return result;

@@ -46,7 +46,9 @@ float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) con
   float squared = 0;
   for (int c = 0; c < 3; ++c) squared += std::pow(work.buffers.colour(row, c) - observed[c], 2.0f);
   const float truncation = static_cast<float>(weights_.truncation);
-  return squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+  const float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+  const bool eyeball = work.buffers.visibility.triangle(pixel) >= work.buffers.part_offsets[kLeftEyeball];
+  return eyeball ? scale * static_cast<float>(std::sqrt(weights_.eyeball_pixels)) : scale;
 }
 
 EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace& work, Eigen::VectorXf* residuals) const {
@@ -62,12 +64,15 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   work.foreground_index.assign(static_cast<std::size_t>(camera_.width) * camera_.height, -1);
   const float* observed = observed_.ptr<float>();
   double image = 0;
+  const int first_eyeball = buffers.part_offsets[kLeftEyeball];
+  const float eyeball_weight = static_cast<float>(weights_.eyeball_pixels);
   for (int i = 0; i < terms.foreground; ++i) {
     const int pixel = buffers.foreground[i];
     work.foreground_index[pixel] = i;
     float squared = 0;
     for (int c = 0; c < 3; ++c) squared += std::pow(buffers.colour(i, c) - observed[3 * pixel + c], 2.0f);
-    image += std::min(squared, truncation);
+    const float weight = buffers.visibility.triangle(pixel) >= first_eyeball ? eyeball_weight : 1.0f;
+    image += weight * std::min(squared, truncation);
   }
   terms.image = terms.foreground > 0 ? image / area : weights_.truncation;
 
@@ -96,7 +101,8 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
       Eigen::Vector3f difference;
       for (int c = 0; c < 3; ++c) difference[c] = buffers.colour(i, c) - observed[3 * pixel + c];
       const float squared = difference.squaredNorm();
-      const float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+      float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+      if (buffers.visibility.triangle(pixel) >= first_eyeball) scale *= std::sqrt(eyeball_weight);
       r.segment<3>(row) = difference * scale;
     }
     row += 3;
