@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "gazedirector 0.1.0");
   std::vector<cli::Command> commands = {cli::RegisterLandmarksCommand(app), cli::RegisterBenchCommand(app),
-                                        cli::RegisterEvalCommand(app), cli::RegisterRenderCommand(app)};
+                                        cli::RegisterEvalCommand(app), cli::RegisterRenderCommand(app),
+                                        cli::RegisterTrackCommand(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

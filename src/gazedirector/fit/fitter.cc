@@ -10,6 +10,7 @@
 #include "gazedirector/fit/initialization.h"
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_topology.h"
+#include "gazedirector/render/model_bounds.h"
 
 namespace gazedirector {
 namespace {
@@ -122,19 +123,7 @@ FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face
   PosedModel posed;
   PoseWorkspace pose_work;
   model_->Pose(phi, posed, pose_work);
-  Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
-  for (int eye = 0; eye < 2; ++eye) {
-    for (Eigen::Index v = 0; v < posed.region[eye].cols(); ++v) {
-      const Eigen::Vector3d p = posed.eyes[eye].region_to_camera * posed.region[eye].col(v) + posed.eyes[eye].centre;
-      if (p.z() <= 1) continue;
-      const Eigen::Vector2d q = camera.Project(p);
-      low = low.cwiseMin(q), high = high.cwiseMax(q);
-    }
-  }
-  const Eigen::Vector2d margin = 0.04 * (high - low);
-  cv::Rect region(cv::Point(static_cast<int>(std::floor(low.x() - margin.x())), static_cast<int>(std::floor(low.y() - margin.y()))),
-                  cv::Point(static_cast<int>(std::ceil(high.x() + margin.x())), static_cast<int>(std::ceil(high.y() + margin.y()))));
-  region &= cv::Rect(0, 0, image.cols, image.rows);
+  const cv::Rect region = ModelBounds(posed, camera) & cv::Rect(0, 0, image.cols, image.rows);
   FitResult failed;
   failed.phi = phi;
   if (region.width < 16 || region.height < 8) {

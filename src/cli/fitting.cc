@@ -1,0 +1,41 @@
+#include "cli/fitting.h"
+
+#include "gazedirector/fit/fit_options.h"
+#include "gazedirector/io/assets.h"
+#include "gazedirector/util/error.h"
+
+namespace gazedirector::cli {
+
+void AddFittingOptions(CLI::App& command, FittingOptions& options) {
+  command.add_flag("--largest", options.largest, "Only the largest face");
+  command.add_option("--fit", options.fit, "Fitter option name=value (repeatable); `gazedirector eval columbia --help` lists them");
+}
+
+FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOptions& options) {
+  const Assets assets = Assets::Resolve(common.assets);
+  FittingSetup setup;
+  setup.model = EyeRegionModel::Load(assets);
+  setup.landmarks = std::make_shared<LandmarkDetector>(assets.landmark_model());
+  setup.mean_face = LoadMeanFace(assets.mean_face());
+  for (const std::string& assignment : options.fit) {
+    SetFitOption(setup.tracker_options.fresh, assignment);
+  }
+  setup.largest = options.largest;
+  return setup;
+}
+
+GazeTracker FittingSetup::MakeTracker() const {
+  return GazeTracker(model, landmarks, mean_face, tracker_options, nullptr, largest);
+}
+
+void RequireOverlayKind(const std::string& overlay, MediaKind kind) {
+  if (overlay.empty()) return;
+  if (kind == MediaKind::kImage && !IsImagePath(overlay)) {
+    Fail(ExitCode::kUsage, "--overlay {}: an image's overlay is an image (.png or .jpg)", overlay);
+  }
+  if (kind == MediaKind::kVideo && !HasVideoExtension(overlay)) {
+    Fail(ExitCode::kUsage, "--overlay {}: a video's overlay is a video (.mp4, .mkv, .gif)", overlay);
+  }
+}
+
+}  // namespace gazedirector::cli

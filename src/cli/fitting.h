@@ -1,0 +1,40 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/common.h"
+#include "gazedirector/face/landmark_detector.h"
+#include "gazedirector/face/mean_face.h"
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/io/media.h"
+#include "gazedirector/video/gaze_tracker.h"
+
+namespace gazedirector::cli {
+
+// The options of the commands that fit the model (track, redirect).
+struct FittingOptions {
+  bool largest = false;
+  std::vector<std::string> fit;  // name=value fitter options
+};
+void AddFittingOptions(CLI::App& command, FittingOptions& options);
+
+// What fitting needs, loaded once.
+struct FittingSetup {
+  std::shared_ptr<const EyeRegionModel> model;
+  std::shared_ptr<const LandmarkDetector> landmarks;
+  MeanFace mean_face;
+  GazeTrackerOptions tracker_options;
+  bool largest = false;
+
+  static FittingSetup Create(const CommonOptions& common, const FittingOptions& options);
+  GazeTracker MakeTracker() const;
+};
+
+// Fails with a usage error unless an overlay path suits the input's kind.
+void RequireOverlayKind(const std::string& overlay, MediaKind kind);
+
+}  // namespace gazedirector::cli

@@ -1,0 +1,194 @@
+// gazedirector track: fit the eye-region model to every face of an image or
+// video, and estimate gaze.
+#include <memory>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "cli/common.h"
+#include "cli/fitting.h"
+#include "gazedirector/fit/fit_options.h"
+#include "gazedirector/io/fit_io.h"
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/json_format.h"
+#include "gazedirector/io/media.h"
+#include "gazedirector/io/text_writer.h"
+#include "gazedirector/io/video_reader.h"
+#include "gazedirector/io/video_writer.h"
+#include "gazedirector/util/error.h"
+#include "gazedirector/util/interrupt.h"
+#include "gazedirector/util/progress.h"
+#include "gazedirector/viz/draw_face.h"
+#include "gazedirector/viz/draw_fit.h"
+
+namespace gazedirector::cli {
+namespace {
+
+struct TrackOptions {
+  CommonOptions common;
+  CameraOptions camera;
+  FittingOptions fitting;
+  std::string input;
+  std::string output;
+  std::string csv;
+  std::string overlay;
+  std::string eye_patch;
+};
+
+void Summarise(const std::string& input, const std::vector<FaceFit>& fits) {
+  for (const FaceFit& fit : fits) {
+    const std::array<EyeGaze, 2> gazes = EyeGazes(fit.fit.phi);
+    const Eigen::Vector2d angles = GazeAngles(0.5 * (gazes[0].gaze + gazes[1].gaze));
+    spdlog::info("{}: face {}: gaze pitch {:.1f} yaw {:.1f} deg (head frame), angle x {:.1f} y {:.1f} deg (camera), "
+                 "energy {:.4f}{}",
+                 input, fit.face.id, fit.fit.phi.gaze_pitch(), fit.fit.phi.gaze_yaw(), angles.x() * 180 / M_PI,
+                 angles.y() * 180 / M_PI, fit.fit.terms.total(), fit.fit.good ? "" : " (poor fit: " + fit.fit.note + ")");
+  }
+}
+
+void WriteRecords(const TrackOptions& options, const nlohmann::json& record, const std::vector<FaceFit>& fits,
+                  const std::vector<std::filesystem::path>& inputs) {
+  const bool lines = std::filesystem::path(options.output).extension() == ".jsonl";
+  WriteTextFile(options.output, lines ? record.dump() + "\n" : PrettyJson(record) + "\n", inputs);
+  if (!options.csv.empty()) {
+    CsvWriter csv(options.csv, FitCsvColumns(), inputs);
+    if (fits.empty()) csv.AddRow(FitCsvRow(0, 0, nullptr));
+    for (const FaceFit& fit : fits) csv.AddRow(FitCsvRow(0, 0, &fit));
+    csv.Finish();
+  }
+}
+
+int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  const cv::Mat crop = ReadImage(options.input);
+  const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
+  Fitter fitter(setup.model, setup.tracker_options.fresh);
+  FaceFit fit;
+  fit.fit = fitter.FitEyePatch(crop, eye);
+  fit.eyes = {eye == kLeftEye, eye == kRightEye};
+  const Camera camera = Fitter::EyePatchCamera(crop.size());
+  WriteRecords(options, FrameRecord(0, 0, {fit}, &camera), {fit}, inputs);
+  if (!options.overlay.empty()) {
+    cv::Mat overlay = crop.clone();
+    Renderer renderer(setup.model);
+    DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
+    WriteImage(options.overlay, overlay, inputs);
+  }
+  spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head, energy {:.4f}{} -> {}", options.input,
+               options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
+               fit.fit.terms.total(), fit.fit.good ? "" : " (poor fit: " + fit.fit.note + ")", options.output);
+  return 0;
+}
+
+int RunOnImage(const TrackOptions& options, const FittingSetup& setup) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  const cv::Mat image = ReadImage(options.input);
+  const Camera camera = options.camera.Resolve(image.cols, image.rows);
+  GazeTracker tracker = setup.MakeTracker();
+  const std::vector<FaceFit> fits = tracker.ProcessImage(image, camera);
+  nlohmann::json record = FrameRecord(0, 0, fits, &camera);
+  record["input"] = options.input;
+  WriteRecords(options, record, fits, inputs);
+  if (!options.overlay.empty()) {
+    cv::Mat overlay = image.clone();
+    Renderer renderer(setup.model);
+    for (const FaceFit& fit : fits) DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
+    WriteImage(options.overlay, overlay, inputs);
+  }
+  if (fits.empty()) {
+    spdlog::warn("no face found in {}", options.input);
+    return static_cast<int>(ExitCode::kNoFace);
+  }
+  Summarise(options.input, fits);
+  return 0;
+}
+
+int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  VideoReader reader(options.input);
+  const VideoInfo& info = reader.info();
+  const Camera camera = options.camera.Resolve(info.width, info.height);
+  GazeTracker tracker = setup.MakeTracker();
+
+  TextWriter json(options.output, inputs);
+  std::optional<CsvWriter> csv;
+  if (!options.csv.empty()) csv.emplace(options.csv, FitCsvColumns(), inputs);
+  std::optional<VideoWriter> overlay;
+  if (!options.overlay.empty()) {
+    overlay.emplace(options.overlay, VideoWriterOptions{info.width, info.height, info.frame_rate, options.input}, inputs);
+  }
+  Renderer renderer(setup.model);
+  Progress progress("track", info.frame_count, "frames", options.common.quiet);
+  cv::Mat frame;
+  long frames_with_faces = 0, poor_fits = 0, fits_made = 0;
+  while (reader.Read(frame)) {
+    ThrowIfInterrupted();
+    const long index = reader.frame_index();
+    const double timestamp = reader.timestamp_s();
+    const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, timestamp, camera);
+    frames_with_faces += fits.empty() ? 0 : 1;
+    for (const FaceFit& fit : fits) poor_fits += fit.fit.good ? 0 : 1, ++fits_made;
+    json.stream() << FrameRecord(index, timestamp, fits, index == 0 ? &camera : nullptr).dump() << '\n';
+    if (csv) {
+      if (fits.empty()) csv->AddRow(FitCsvRow(index, timestamp, nullptr));
+      for (const FaceFit& fit : fits) csv->AddRow(FitCsvRow(index, timestamp, &fit));
+    }
+    if (overlay) {
+      for (const FaceFit& fit : fits) DrawFit(frame, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
+      overlay->Write(frame);
+    }
+    progress.Update(index + 1);
+  }
+  progress.Finish();
+  if (reader.EndedEarly()) {
+    spdlog::warn("{}: the video ended after {} of {} frames (truncated?)", options.input, reader.frame_index() + 1,
+                 info.frame_count);
+  }
+  json.Finish();
+  if (csv) csv->Finish();
+  if (overlay) overlay->Finish();
+
+  const long frames = reader.frame_index() + 1;
+  if (frames_with_faces == 0) {
+    spdlog::warn("no face found in any of the {} frames of {}", frames, options.input);
+    return static_cast<int>(ExitCode::kNoFace);
+  }
+  spdlog::info("{}: {} fits in {} frames ({:.1f} frames/s), {} poor -> {}", options.input, fits_made, frames,
+               frames / progress.elapsed_s(), poor_fits, options.output);
+  return 0;
+}
+
+int RunTrack(const TrackOptions& options) {
+  ApplyLogLevel(options.common);
+  RequireExtension(options.output, "-o", {".json", ".jsonl"});
+  if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
+  const MediaKind kind = DetectMediaKind(options.input);
+  if (!options.eye_patch.empty() && kind != MediaKind::kImage) {
+    Fail(ExitCode::kUsage, "--eye-patch takes an image of one eye, not a video");
+  }
+  RequireOverlayKind(options.overlay, kind);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup);
+  return kind == MediaKind::kImage ? RunOnImage(options, setup) : RunOnVideo(options, setup);
+}
+
+}  // namespace
+
+Command RegisterTrackCommand(CLI::App& root) {
+  auto options = std::make_shared<TrackOptions>();
+  CLI::App* app = root.add_subcommand("track", "Fit the 3D eye-region model to each face of an image or video and estimate gaze");
+  app->add_option("input", options->input, "Image or video file")->required();
+  app->add_option("-o,--output", options->output,
+                  "Fits: JSON lines (.jsonl, one line per frame) or one JSON document (.json, images)")->required();
+  app->add_option("--csv", options->csv, "Also write gaze and head pose as CSV with OpenFace's column names");
+  app->add_option("--overlay", options->overlay, "Draw the fitted model and gaze rays over the input (.png/.jpg or .mp4)");
+  app->add_option("--eye-patch", options->eye_patch, "The input is a crop of one eye (as the Columbia crops): left or right")
+      ->check(CLI::IsMember({"left", "right"}));
+  AddFittingOptions(*app, options->fitting);
+  AddCameraOptions(*app, options->camera);
+  AddCommonOptions(*app, options->common);
+  return {app, [options] { return RunTrack(*options); }};
+}
+
+}  // namespace gazedirector::cli

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "gazedirector/face/face_tracker.h"
+#include "gazedirector/fit/face_fit.h"
+#include "gazedirector/fit/fitter.h"
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/util/thread_pool.h"
+
+namespace gazedirector {
+
+struct GazeTrackerOptions {
+  FitOptions fresh;  // for a face seen for the first time (or refitted)
+  FitOptions warm;   // for a face followed from the previous frame
+  // After this many fits of a face its shape, texture, iris size and
+  // interocular distance are held (the paper's parameter masking): they do
+  // not change from frame to frame, and fewer parameters fit faster.
+  int settle_frames = 3;
+  // A warm fit whose energy exceeds this multiple of the face's typical
+  // energy is redone from the landmarks (the fit lost the eyes).
+  double refit_ratio = 1.8;
+  static GazeTrackerOptions Defaults();
+};
+
+// Finds faces and fits the eye-region model to each, in stills and videos.
+// In a video every face keeps its fit from frame to frame: the next frame
+// starts from it, with the settled parameters held.
+class GazeTracker {
+ public:
+  GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::shared_ptr<const LandmarkDetector> landmarks,
+              MeanFace mean_face, GazeTrackerOptions options = GazeTrackerOptions::Defaults(),
+              std::shared_ptr<ThreadPool> pool = nullptr, bool largest_only = false);
+
+  std::vector<FaceFit> ProcessImage(const cv::Mat& image, const Camera& camera);
+  std::vector<FaceFit> ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera);
+  void Reset();
+
+ private:
+  struct History {
+    Parameters phi;
+    int fits = 0;
+    double typical_energy = 0;  // running average of good fits' energies
+  };
+  FaceFit Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history);
+
+  std::shared_ptr<const EyeRegionModel> model_;
+  GazeTrackerOptions options_;
+  FaceTracker faces_;
+  Fitter fresh_;
+  Fitter warm_;
+  std::map<int, History> histories_;
+};
+
+}  // namespace gazedirector
