@@ -40,6 +40,7 @@ Command RegisterBenchCommand(CLI::App& root);
 Command RegisterEvalCommand(CLI::App& root);
 Command RegisterRenderCommand(CLI::App& root);
 Command RegisterTrackCommand(CLI::App& root);
+Command RegisterRedirectCommand(CLI::App& root);
 
 // Fails with a usage error unless `path`'s extension is one of `allowed`.
 void RequireExtension(const std::filesystem::path& path, const std::string& option,

@@ -1,0 +1,357 @@
+// gazedirector redirect: change where the people in an image or video look.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+
+#include "cli/common.h"
+#include "cli/fitting.h"
+#include "gazedirector/io/fit_io.h"
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/media.h"
+#include "gazedirector/io/text_writer.h"
+#include "gazedirector/io/video_reader.h"
+#include "gazedirector/io/video_writer.h"
+#include "gazedirector/redirect/gaze_script.h"
+#include "gazedirector/redirect/redirector.h"
+#include "gazedirector/util/error.h"
+#include "gazedirector/util/interrupt.h"
+#include "gazedirector/util/progress.h"
+#include "gazedirector/viz/draw_fit.h"
+
+namespace gazedirector::cli {
+namespace {
+
+struct RedirectCommandOptions {
+  CommonOptions common;
+  CameraOptions camera;
+  FittingOptions fitting;
+  std::string input;
+  std::string output;
+  std::string look_at;
+  std::vector<double> gaze;
+  std::string frame = "camera";
+  std::vector<double> offset;
+  std::string script;
+  std::string fits;
+  std::string debug_dir;
+  bool side_by_side = false;
+  bool rendered_eyeballs = false;
+  bool no_eyelids = false;
+  bool refit = false;
+};
+
+GazeScript ParseTarget(const RedirectCommandOptions& options) {
+  const int given = !options.look_at.empty() + !options.gaze.empty() + !options.offset.empty() + !options.script.empty();
+  if (given > 1) Fail(ExitCode::kUsage, "give one target: --look-at, --gaze, --offset or --script");
+  if (!options.script.empty()) return GazeScript::Load(options.script);
+  if (!options.gaze.empty()) {
+    return GazeScript::Constant(GazeTarget::Direction(
+        options.gaze[0], options.gaze[1], options.frame == "head" ? GazeTarget::Frame::kHead : GazeTarget::Frame::kCamera));
+  }
+  if (!options.offset.empty()) return GazeScript::Constant(GazeTarget::Offset(options.offset[0], options.offset[1]));
+  if (options.look_at.empty() || options.look_at == "camera") {
+    if (options.look_at.empty()) spdlog::info("no target given: eye contact (--look-at camera)");
+    return GazeScript::Constant(GazeTarget::Camera());
+  }
+  std::istringstream stream(options.look_at);
+  double x = 0, y = 0, z = 0;
+  char c1 = 0, c2 = 0;
+  if (!(stream >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',' || !stream.eof() || z == 0) {
+    Fail(ExitCode::kUsage, "--look-at {}: expected \"camera\" or x,y,z in millimetres (camera frame, z not 0)", options.look_at);
+  }
+  return GazeScript::Constant(GazeTarget::Point({x, y, z}));
+}
+
+RedirectOptions MakeRedirectOptions(const RedirectCommandOptions& options) {
+  RedirectOptions redirect;
+  redirect.transfer_eyeballs = !options.rendered_eyeballs;
+  redirect.warp_eyelids = !options.no_eyelids;
+  return redirect;
+}
+
+cv::Mat SideBySide(const cv::Mat& before, const cv::Mat& after) {
+  cv::Mat both;
+  cv::hconcat(before, after, both);
+  return both;
+}
+
+void WriteDebug(const std::filesystem::path& dir, const std::string& prefix, const cv::Mat& image, const Camera& camera,
+                const Parameters& phi, bool good, const RedirectLayers& layers, const RedirectReport& report,
+                Renderer& renderer, const std::vector<std::filesystem::path>& inputs) {
+  cv::Mat overlay = image.clone();
+  DrawFit(overlay, camera, phi, good, {true, true}, renderer);
+  WriteImage(dir / (prefix + "fit_overlay.png"), overlay, inputs);
+  if (layers.flow.empty()) return;
+  double longest = 1;
+  for (int y = 0; y < layers.flow.rows; ++y) {
+    for (int x = 0; x < layers.flow.cols; ++x) {
+      const cv::Vec2f f = layers.flow.at<cv::Vec2f>(y, x);
+      longest = std::max(longest, std::hypot(double(f[0]), double(f[1])));
+    }
+  }
+  WriteImage(dir / (prefix + "flow.png"), FlowPicture(layers.flow, longest), inputs);
+  WriteImage(dir / (prefix + "skin_mask.png"), layers.skin_mask, inputs);
+  WriteImage(dir / (prefix + "eyeball_mask.png"), layers.eyeball_mask, inputs);
+  WriteImage(dir / (prefix + "transfer_mask.png"), layers.transfer_mask, inputs);
+  WriteImage(dir / (prefix + "eyeball_layer.png"), layers.eyeball_layer, inputs);
+  WriteImage(dir / (prefix + "specular.png"), layers.specular, inputs);
+  if (report.environment >= 0) {
+    WriteImage(dir / (prefix + "environment.png"), BuiltInEnvironmentMaps()[report.environment].Picture(), inputs);
+  }
+}
+
+std::string EyeList(const std::array<bool, 2>& eyes) {
+  if (eyes[0] && eyes[1]) return "both eyes";
+  if (eyes[0]) return "left eye";
+  if (eyes[1]) return "right eye";
+  return "no eye";
+}
+
+int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  const cv::Mat image = ReadImage(options.input);
+  const Camera camera = options.camera.Resolve(image.cols, image.rows);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+
+  std::vector<StoredFit> fits;
+  if (!options.fits.empty()) {
+    const FitsFile file = ReadFits(options.fits);
+    fits = file.frames.begin()->second.faces;
+  } else {
+    GazeTracker tracker = setup.MakeTracker();
+    for (const FaceFit& fit : tracker.ProcessImage(image, camera)) {
+      fits.push_back({fit.face.id, fit.fit.phi, fit.fit.good, fit.fit.note, fit.eyes});
+    }
+  }
+  if (fits.empty()) Fail(ExitCode::kNoFace, "no face found in {}; nothing to redirect", options.input);
+
+  cv::Mat result = image.clone();
+  Redirector redirector(setup.model, MakeRedirectOptions(options));
+  Renderer renderer(setup.model);
+  int redirected = 0;
+  for (const StoredFit& fit : fits) {
+    if (!fit.good) {
+      spdlog::warn("face {}: left untouched: the fit is poor ({})", fit.face_id, fit.note);
+      continue;
+    }
+    const Parameters target = script.TargetAt(fit.phi, 0);
+    RedirectLayers layers;
+    const RedirectReport report = redirector.Redirect(result, camera, fit.phi, target, options.debug_dir.empty() ? nullptr : &layers);
+    if (!options.debug_dir.empty()) {
+      WriteDebug(options.debug_dir, fits.size() > 1 ? fmt::format("face{}_", fit.face_id) : "", image, camera, fit.phi,
+                 fit.good, layers, report, renderer, inputs);
+    }
+    if (!report.redirected[0] && !report.redirected[1]) {
+      spdlog::warn("face {}: left untouched: {}", fit.face_id, report.note);
+      continue;
+    }
+    ++redirected;
+    spdlog::info("face {}: {} redirected from pitch {:.1f} yaw {:.1f} to pitch {:.1f} yaw {:.1f} deg (head frame), "
+                 "reflections of the {} map{}{}",
+                 fit.face_id, EyeList(report.redirected), fit.phi.gaze_pitch(), fit.phi.gaze_yaw(), target.gaze_pitch(),
+                 target.gaze_yaw(), BuiltInEnvironmentMaps()[std::max(0, report.environment)].name,
+                 report.specular_gain > 0 ? "" : " (none needed)", report.note.empty() ? "" : "; " + report.note);
+  }
+  if (options.side_by_side) result = SideBySide(image, result);
+  WriteImage(options.output, result, inputs);
+  spdlog::info("{}: {} of {} face{} redirected to {} -> {}", options.input, redirected, fits.size(),
+               fits.size() == 1 ? "" : "s", script.Describe(), options.output);
+  return 0;
+}
+
+// Where one-go video redirection keeps its fits, so that a re-run reuses them.
+std::filesystem::path FitsCachePath(const std::string& output) { return output + ".fits.jsonl"; }
+
+nlohmann::json InputSignature(const std::filesystem::path& input) {
+  return {{"input_bytes", std::filesystem::file_size(input)},
+          {"input_mtime", std::filesystem::last_write_time(input).time_since_epoch().count()}};
+}
+
+// Tracks the whole video, writing the fits file; returns what it wrote.
+FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const Camera& camera,
+                    const std::filesystem::path& fits_path) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  VideoReader reader(options.input);
+  GazeTracker tracker = setup.MakeTracker();
+  TextWriter json(fits_path, inputs);
+  Progress progress("track", reader.info().frame_count, "frames", options.common.quiet);
+  cv::Mat frame;
+  while (reader.Read(frame)) {
+    ThrowIfInterrupted();
+    const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    nlohmann::json record = FrameRecord(reader.frame_index(), reader.timestamp_s(), fits,
+                                        reader.frame_index() == 0 ? &camera : nullptr);
+    if (reader.frame_index() == 0) record["source"] = InputSignature(options.input);
+    json.stream() << record.dump() << '\n';
+    progress.Update(reader.frame_index() + 1);
+  }
+  progress.Finish();
+  json.Finish();
+  return ReadFits(fits_path);
+}
+
+bool CacheMatches(const std::filesystem::path& fits_path, const std::filesystem::path& input) {
+  std::ifstream stream(fits_path);
+  std::string first;
+  if (!stream || !std::getline(stream, first)) return false;
+  try {
+    const nlohmann::json record = nlohmann::json::parse(first);
+    return record.contains("source") && record["source"] == InputSignature(input);
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
+
+// Per face and frame, how much of the redirection to apply: 0 while an eye
+// is closed (blinks are kept as they were), easing back to 1 over
+// `handover_s` on either side.
+std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, double frame_rate, double handover_s,
+                                                         double closed_deg) {
+  std::map<int, std::vector<long>> closed_frames;
+  for (const auto& [index, frame] : fits.frames) {
+    for (const StoredFit& fit : frame.faces) {
+      if (fit.phi.eyelid_closure() > closed_deg) closed_frames[fit.face_id].push_back(index);
+    }
+  }
+  std::map<long, std::map<int, double>> weights;
+  const double handover_frames = std::max(1.0, handover_s * frame_rate);
+  for (const auto& [index, frame] : fits.frames) {
+    for (const StoredFit& fit : frame.faces) {
+      double nearest = 1e9;
+      const std::vector<long>& closed = closed_frames[fit.face_id];
+      auto it = std::lower_bound(closed.begin(), closed.end(), index);
+      if (it != closed.end()) nearest = std::min(nearest, static_cast<double>(*it - index));
+      if (it != closed.begin()) nearest = std::min(nearest, static_cast<double>(index - *std::prev(it)));
+      const double t = std::clamp(nearest / handover_frames, 0.0, 1.0);
+      weights[index][fit.face_id] = t * t * (3 - 2 * t);
+    }
+  }
+  return weights;
+}
+
+int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  VideoReader reader(options.input);
+  const VideoInfo& info = reader.info();
+  const Camera camera = options.camera.Resolve(info.width, info.height);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+
+  // Stage 1: the fits, given, stored by an earlier run, or tracked now.
+  FitsFile fits;
+  if (!options.fits.empty()) {
+    fits = ReadFits(options.fits);
+    spdlog::info("using the fits in {} ({} frames)", options.fits, fits.frames.size());
+  } else {
+    const std::filesystem::path cache = FitsCachePath(options.output);
+    if (!options.refit && std::filesystem::exists(cache) && CacheMatches(cache, options.input)) {
+      fits = ReadFits(cache);
+      spdlog::info("reusing the fits stored in {} (--refit to track again)", cache.string());
+    } else {
+      fits = TrackVideo(options, setup, camera, cache);
+      spdlog::info("fits stored in {}; edit them and pass --fits to re-render", cache.string());
+    }
+  }
+  if (fits.camera && (fits.camera->width != info.width || fits.camera->height != info.height)) {
+    Fail(ExitCode::kBadInput, "the fits were made on {}x{} frames, the video has {}x{}", fits.camera->width,
+         fits.camera->height, info.width, info.height);
+  }
+  const double frame_rate = info.frame_rate.value();
+  const RedirectOptions redirect_options = MakeRedirectOptions(options);
+  const auto weights = RedirectionWeights(fits, frame_rate, 0.15, 0.5 * redirect_options.max_closure_deg);
+
+  // Stage 2: re-render every frame.
+  const int out_width = options.side_by_side ? 2 * info.width : info.width;
+  VideoWriter writer(options.output, VideoWriterOptions{out_width, info.height, info.frame_rate, options.input}, inputs);
+  Redirector redirector(setup.model, redirect_options);
+  std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
+  Progress progress("redirect", info.frame_count, "frames", options.common.quiet);
+  cv::Mat frame;
+  long redirected_frames = 0, untouched = 0;
+  while (reader.Read(frame)) {
+    ThrowIfInterrupted();
+    const long index = reader.frame_index();
+    const double time = reader.timestamp_s();
+    cv::Mat result = frame.clone();
+    const auto stored = fits.frames.find(index);
+    bool any = false;
+    if (stored != fits.frames.end()) {
+      for (const StoredFit& fit : stored->second.faces) {
+        if (!fit.good) {
+          ++untouched;
+          continue;
+        }
+        const double weight = weights.at(index).at(fit.face_id);
+        if (weight <= 0) continue;  // a blink: keep the original
+        const Parameters target = BlendGaze(fit.phi, script.TargetAt(fit.phi, time), weight);
+        const auto chosen = environments.find(fit.face_id);
+        redirector.options().environment = chosen == environments.end() ? -1 : chosen->second;
+        const RedirectReport report = redirector.Redirect(result, camera, fit.phi, target);
+        if (report.redirected[0] || report.redirected[1]) {
+          any = true;
+          if (chosen == environments.end()) environments[fit.face_id] = report.environment;
+        }
+      }
+    }
+    redirected_frames += any ? 1 : 0;
+    writer.Write(options.side_by_side ? SideBySide(frame, result) : result);
+    progress.Update(index + 1);
+  }
+  progress.Finish();
+  if (reader.EndedEarly()) spdlog::warn("{}: the video ended early (truncated?)", options.input);
+  writer.Finish();
+  spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits left untouched) -> {}", options.input,
+               redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, options.output);
+  return 0;
+}
+
+int RunRedirect(const RedirectCommandOptions& options) {
+  ApplyLogLevel(options.common);
+  const MediaKind kind = DetectMediaKind(options.input);
+  if (kind == MediaKind::kImage && !IsImagePath(options.output)) {
+    Fail(ExitCode::kUsage, "-o {}: an image's output is an image (.png or .jpg)", options.output);
+  }
+  if (kind == MediaKind::kVideo && !HasVideoExtension(options.output)) {
+    Fail(ExitCode::kUsage, "-o {}: a video's output is a video (.mp4, .mkv, .gif)", options.output);
+  }
+  if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
+    Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
+  }
+  const GazeScript script = ParseTarget(options);
+  return kind == MediaKind::kImage ? RunOnImage(options, script) : RunOnVideo(options, script);
+}
+
+}  // namespace
+
+Command RegisterRedirectCommand(CLI::App& root) {
+  auto options = std::make_shared<RedirectCommandOptions>();
+  CLI::App* app = root.add_subcommand("redirect", "Change where the people in an image or video look");
+  app->add_option("input", options->input, "Image or video file")->required();
+  app->add_option("-o,--output", options->output, "Output image or video")->required();
+  app->add_option("--look-at", options->look_at, "Look at \"camera\" (eye contact, the default) or a point x,y,z (mm, camera frame)");
+  app->add_option("--gaze", options->gaze, "Look in a direction: pitch,yaw in degrees (up and image-right +)")
+      ->expected(2)->delimiter(',');
+  app->add_option("--frame", options->frame, "The frame of --gaze: camera or head")
+      ->check(CLI::IsMember({"camera", "head"}))->capture_default_str();
+  app->add_option("--offset", options->offset, "Change the fitted gaze by dpitch,dyaw degrees")->expected(2)->delimiter(',');
+  app->add_option("--script", options->script, "A JSON timeline of gaze targets (videos)");
+  app->add_option("--fits", options->fits, "Fits from `gazedirector track` (perhaps edited) instead of tracking now");
+  app->add_flag("--side-by-side", options->side_by_side, "Write the original and the result side by side");
+  app->add_option("--debug-dir", options->debug_dir, "Write the fit overlay, flow field, masks and eyeball layer here (images)");
+  app->add_flag("--rendered-eyeballs", options->rendered_eyeballs, "Use only rendered eyeballs (the paper), not the photo's own iris");
+  app->add_flag("--no-eyelids", options->no_eyelids, "Move only the eyeballs, not the eyelids");
+  app->add_flag("--refit", options->refit, "Track the video again even when stored fits exist");
+  AddFittingOptions(*app, options->fitting);
+  AddCameraOptions(*app, options->camera);
+  AddCommonOptions(*app, options->common);
+  return {app, [options] { return RunRedirect(*options); }};
+}
+
+}  // namespace gazedirector::cli

@@ -1,0 +1,106 @@
+#include "gazedirector/redirect/gaze_script.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace {
+
+double Smoothstep(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+}  // namespace
+
+GazeScript GazeScript::Load(const std::filesystem::path& path) {
+  std::ifstream stream(path);
+  if (!stream) Fail(ExitCode::kBadInput, "{}: cannot read the gaze script", path.string());
+  try {
+    return FromJson(nlohmann::json::parse(stream));
+  } catch (const nlohmann::json::exception& e) {
+    Fail(ExitCode::kBadInput, "{}: {}", path.string(), e.what());
+  } catch (const Error& e) {
+    Fail(ExitCode::kBadInput, "{}: {}", path.string(), e.what());
+  }
+}
+
+GazeScript GazeScript::FromJson(const nlohmann::json& json) {
+  GazeScript script;
+  script.transition_s_ = json.value("transition_s", 0.3);
+  if (!(script.transition_s_ >= 0)) Fail(ExitCode::kBadInput, "transition_s must be 0 or more");
+  if (!json.contains("segments") || !json["segments"].is_array() || json["segments"].empty()) {
+    Fail(ExitCode::kBadInput, "a gaze script needs a non-empty \"segments\" list");
+  }
+  double last = -1e9;
+  for (const nlohmann::json& entry : json["segments"]) {
+    Segment segment;
+    segment.start_s = entry.value("start_s", 0.0);
+    if (segment.start_s < last) Fail(ExitCode::kBadInput, "segments must be in order of start_s");
+    last = segment.start_s;
+    if (entry.contains("reading")) {
+      const nlohmann::json& r = entry["reading"];
+      segment.reading = true;
+      segment.read.width_deg = r.value("width_deg", segment.read.width_deg);
+      segment.read.line_s = r.value("line_s", segment.read.line_s);
+      segment.read.lines = r.value("lines", segment.read.lines);
+      segment.read.line_spacing_deg = r.value("line_spacing_deg", segment.read.line_spacing_deg);
+      segment.read.pitch_deg = r.value("pitch_deg", segment.read.pitch_deg);
+      if (!(segment.read.line_s > 0.2) || segment.read.lines < 1) {
+        Fail(ExitCode::kBadInput, "reading: line_s must exceed 0.2 s and lines be at least 1");
+      }
+    } else if (entry.contains("target")) {
+      segment.target = GazeTarget::FromJson(entry["target"]);
+    } else {
+      Fail(ExitCode::kBadInput, "each segment needs a \"target\" or \"reading\"");
+    }
+    script.segments_.push_back(segment);
+  }
+  return script;
+}
+
+GazeScript GazeScript::Constant(const GazeTarget& target) {
+  GazeScript script;
+  Segment segment;
+  segment.target = target;
+  script.segments_.push_back(segment);
+  return script;
+}
+
+Parameters GazeScript::SegmentTarget(const Segment& segment, const Parameters& fitted, double time_s) const {
+  if (!segment.reading) return Retarget(fitted, segment.target);
+  const Reading& r = segment.read;
+  const double local = std::max(0.0, time_s - segment.start_s);
+  const double period = r.line_s + r.return_s;
+  const int line = std::min(r.lines - 1, static_cast<int>(local / period));
+  const double in_line = local - line * period;
+  // Left to right (image left to right: toward the subject's right), then a quick return.
+  const double progress = in_line < r.line_s ? in_line / r.line_s : 1.0 - Smoothstep((in_line - r.line_s) / r.return_s);
+  const bool finished = local >= r.lines * period;
+  const double yaw = finished ? -0.5 * r.width_deg : 0.5 * r.width_deg - r.width_deg * progress;
+  const double pitch = r.pitch_deg - r.line_spacing_deg * line;
+  return Retarget(fitted, GazeTarget::Direction(pitch, yaw, GazeTarget::Frame::kHead));
+}
+
+Parameters GazeScript::TargetAt(const Parameters& fitted, double time_s) const {
+  std::size_t index = 0;
+  while (index + 1 < segments_.size() && segments_[index + 1].start_s <= time_s) ++index;
+  const Parameters current = SegmentTarget(segments_[index], fitted, time_s);
+  if (index == 0 || transition_s_ <= 0) return current;
+  const double since = time_s - segments_[index].start_s;
+  if (since >= transition_s_) return current;
+  const Parameters previous = SegmentTarget(segments_[index - 1], fitted, segments_[index].start_s);
+  return BlendGaze(previous, current, Smoothstep(since / transition_s_));
+}
+
+std::string GazeScript::Describe() const {
+  if (segments_.size() == 1 && !segments_[0].reading) return segments_[0].target.Describe();
+  return fmt::format("a script of {} segments", segments_.size());
+}
+
+}  // namespace gazedirector

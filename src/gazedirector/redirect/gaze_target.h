@@ -1,0 +1,50 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "gazedirector/model/parameters.h"
+
+namespace gazedirector {
+
+// Where redirected eyes should look.
+struct GazeTarget {
+  enum class Kind {
+    kPoint,      // a 3D point in camera coordinates (mm); both eyes verge on it
+    kCamera,     // eye contact: the camera's centre
+    kDirection,  // a direction, pitch and yaw in degrees (in `frame`)
+    kOffset,     // a change of the fitted gaze, pitch and yaw in degrees
+  };
+  enum class Frame { kCamera, kHead };
+
+  Kind kind = Kind::kCamera;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double pitch_deg = 0;  // up +
+  double yaw_deg = 0;    // kDirection in the camera frame: toward the image right +; in the head frame: toward the subject's left +
+  Frame frame = Frame::kCamera;
+
+  static GazeTarget Camera() { return {}; }
+  static GazeTarget Point(const Eigen::Vector3d& point);
+  static GazeTarget Direction(double pitch_deg, double yaw_deg, Frame frame);
+  static GazeTarget Offset(double pitch_deg, double yaw_deg);
+
+  std::string Describe() const;
+  nlohmann::json ToJson() const;
+  // {"camera": true} | {"look_at": [x, y, z]} | {"gaze": [pitch, yaw], "frame": "camera"|"head"} | {"offset": [dp, dy]}
+  static GazeTarget FromJson(const nlohmann::json& json);
+};
+
+// Φ re-posed to look at `target`: gaze pitch, yaw and (for points) vergence,
+// with the eyelids following the change of pitch, within the eye's range.
+Parameters Retarget(const Parameters& phi, const GazeTarget& target);
+
+// The gaze pitch and yaw (degrees) of a unit direction in the head frame.
+Eigen::Vector2d PitchYawOf(const Eigen::Vector3d& direction_in_head);
+
+// Blends two gaze poses (gaze and eyelids only; the rest from `a`) by `t` in [0, 1].
+Parameters BlendGaze(const Parameters& a, const Parameters& b, double t);
+
+}  // namespace gazedirector

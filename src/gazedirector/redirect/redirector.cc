@@ -1,0 +1,337 @@
+#include "gazedirector/redirect/redirector.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/render/model_bounds.h"
+
+namespace gazedirector {
+namespace {
+
+// The cornea's reflectance at normal incidence (water-like, n = 1.376).
+constexpr float kFresnel = 0.028f;
+
+// Projections of every posed vertex of `parts` into `camera`: the rasterized
+// attribute that says where a surface point was in the photo.
+void ProjectParts(const PosedModel& posed, const Camera& camera, std::array<bool, kNumParts> parts,
+                  std::array<Eigen::MatrixXf, kNumParts>& out) {
+  for (int part = 0; part < kNumParts; ++part) {
+    if (!parts[part]) {
+      out[part].resize(0, 0);
+      continue;
+    }
+    const Eigen::Matrix3Xf& p = posed.parts[part].positions;
+    out[part].resize(2, p.cols());
+    for (Eigen::Index v = 0; v < p.cols(); ++v) {
+      const float z = std::max(p(2, v), 1.0f);
+      out[part](0, v) = static_cast<float>(camera.fx) * p(0, v) / z + static_cast<float>(camera.cx);
+      out[part](1, v) = static_cast<float>(camera.fy) * p(1, v) / z + static_cast<float>(camera.cy);
+    }
+  }
+}
+
+int CountPart(const RenderBuffers& buffers, int part) {
+  int count = 0;
+  for (int pixel : buffers.foreground) count += buffers.PartAt(pixel) == part;
+  return count;
+}
+
+cv::Vec3f RenderedBgr(const RenderBuffers& buffers, std::size_t i) {
+  const Eigen::Index row = static_cast<Eigen::Index>(i);
+  return {buffers.colour(row, 2), buffers.colour(row, 1), buffers.colour(row, 0)};
+}
+
+float Luminance(const cv::Vec3f& bgr) { return 0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]; }
+
+cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
+  x = std::clamp(x, 0.0f, image.cols - 1.001f), y = std::clamp(y, 0.0f, image.rows - 1.001f);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const float fx = x - x0, fy = y - y0;
+  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
+  return (1 - fy) * ((1 - fx) * image.at<cv::Vec3f>(y0, x0) + fx * image.at<cv::Vec3f>(y0, x1)) +
+         fy * ((1 - fx) * image.at<cv::Vec3f>(y1, x0) + fx * image.at<cv::Vec3f>(y1, x1));
+}
+
+}  // namespace
+
+cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
+  cv::Mat hsv(flow.size(), CV_8UC3);
+  for (int y = 0; y < flow.rows; ++y) {
+    for (int x = 0; x < flow.cols; ++x) {
+      const cv::Vec2f f = flow.at<cv::Vec2f>(y, x);
+      const double angle = std::atan2(f[1], f[0]) * 180 / M_PI;
+      const double length = std::hypot(f[0], f[1]);
+      hsv.at<cv::Vec3b>(y, x) = {cv::saturate_cast<uchar>((angle < 0 ? angle + 360 : angle) / 2),
+                                 cv::saturate_cast<uchar>(255 * std::min(1.0, length / scale)), 255};
+    }
+  }
+  cv::Mat bgr;
+  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+  return bgr;
+}
+
+Redirector::Redirector(std::shared_ptr<const EyeRegionModel> model, RedirectOptions options)
+    : model_(model), options_(options), fitted_renderer_(model), target_renderer_(model) {}
+
+std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& camera, std::string& note) {
+  if (fitted.eyelid_closure() > options_.max_closure_deg) {
+    note = fmt::format("eyes closed (lid closure {:.0f} deg)", fitted.eyelid_closure());
+    return {false, false};
+  }
+  // How much eyeball shows, against the same eyes with their lids at rest.
+  Parameters rested = fitted;
+  rested.eyelid_closure() = 0;
+  rested.eyelid_pitch() = fitted.gaze_pitch();
+  fitted_renderer_.set_eyes(true, true);
+  fitted_renderer_.Pose(rested);
+  const cv::Rect region = ModelBounds(fitted_renderer_.posed(), camera);
+  if (region.width < 8 || region.height < 4) {
+    note = "the eyes are outside the image";
+    return {false, false};
+  }
+  const Camera crop = camera.Cropped(region.x, region.y, region.width, region.height);
+  fitted_renderer_.Render(rested, crop, target_buffers_);
+  const std::array<int, 2> rest = {CountPart(target_buffers_, kLeftEyeball), CountPart(target_buffers_, kRightEyeball)};
+  fitted_renderer_.Render(fitted, crop, target_buffers_);
+  std::array<bool, 2> open = {true, true};
+  for (int eye = 0; eye < 2; ++eye) {
+    const int shown = CountPart(target_buffers_, EyeballPart(eye));
+    if (rest[eye] < 6 || shown < options_.min_open_fraction * rest[eye]) {
+      open[eye] = false;
+      note += fmt::format("{}{} eye closed or hidden ({:.0f}% of its eyeball shows)", note.empty() ? "" : "; ",
+                          eye == kLeftEye ? "left" : "right", rest[eye] ? 100.0 * shown / rest[eye] : 0.0);
+    }
+  }
+  return open;
+}
+
+void Redirector::Reflections(const Renderer& renderer, const RenderBuffers& buffers, const Camera& camera,
+                             const EnvironmentMap& map, cv::Mat& specular) const {
+  specular.create(buffers.height(), buffers.width(), CV_32FC3);
+  specular.setTo(cv::Scalar::all(0));
+  std::array<Eigen::MatrixXf, kNumParts> normals;
+  for (int part : {kLeftEyeball, kRightEyeball}) normals[part] = renderer.posed().parts[part].normals;
+  const cv::Mat field = Renderer::InterpolateAttribute(buffers, *model_, normals, 3);
+  for (int pixel : buffers.foreground) {
+    if (!IsEyeball(buffers.PartAt(pixel))) continue;
+    const int x = pixel % buffers.width(), y = pixel / buffers.width();
+    const cv::Vec3f n_cv = field.at<cv::Vec3f>(y, x);
+    const Eigen::Vector3f n = Eigen::Vector3f(n_cv[0], n_cv[1], n_cv[2]).normalized();
+    const Eigen::Vector3f view = camera.Ray(Eigen::Vector2d(x, y)).cast<float>();
+    const float cosine = std::max(0.0f, -view.dot(n));
+    const Eigen::Vector3f reflected = view - 2 * view.dot(n) * n;
+    const float fresnel = kFresnel + (1 - kFresnel) * std::pow(1 - cosine, 5.0f);
+    const Eigen::Vector3f rgb = fresnel * map.Radiance(reflected);
+    specular.at<cv::Vec3f>(y, x) = {rgb.z(), rgb.y(), rgb.x()};
+  }
+}
+
+int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, double& gain) {
+  // Bright residuals of the photo over the fitted eyeballs: the highlights
+  // the diffuse model cannot explain.
+  std::vector<int> pixels;
+  std::vector<float> residual;
+  for (std::size_t i = 0; i < fitted_buffers_.foreground.size(); ++i) {
+    const int pixel = fitted_buffers_.foreground[i];
+    if (!IsEyeball(fitted_buffers_.PartAt(pixel))) continue;
+    const cv::Vec3f observed = photo.at<cv::Vec3f>(pixel / photo.cols, pixel % photo.cols);
+    pixels.push_back(pixel);
+    residual.push_back(std::max(0.0f, Luminance(observed) - Luminance(RenderedBgr(fitted_buffers_, i))));
+  }
+  gain = 0;
+  if (pixels.size() < 10) return 0;
+  double baseline = 0;
+  for (float r : residual) baseline += r * r;
+  int best = 0;
+  double best_error = baseline;
+  cv::Mat specular;
+  const auto& maps = BuiltInEnvironmentMaps();
+  for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
+    Reflections(fitted_renderer_, fitted_buffers_, camera, maps[k], specular);
+    double hh = 0, hr = 0;
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      const float h = Luminance(specular.at<cv::Vec3f>(pixels[i] / photo.cols, pixels[i] % photo.cols));
+      hh += h * h, hr += h * residual[i];
+    }
+    if (hh <= 0) continue;
+    const double a = std::clamp(hr / hh, 0.0, 3.0);
+    const double error = baseline - 2 * a * hr + a * a * hh;
+    if (error < best_error) best_error = error, best = k, gain = a;
+  }
+  // Reflections that explain too little are not worth adding.
+  if (best_error > 0.97 * baseline) gain = 0;
+  return best;
+}
+
+RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const Parameters& fitted,
+                                    const Parameters& target, RedirectLayers* layers) {
+  RedirectReport report;
+  const std::array<bool, 2> eyes = OpenEyes(fitted, camera, report.note);
+  if (!eyes[0] && !eyes[1]) return report;
+  Parameters posed_target = target;
+  if (!options_.warp_eyelids) {
+    posed_target.eyelid_pitch() = fitted.eyelid_pitch();
+    posed_target.eyelid_closure() = fitted.eyelid_closure();
+  }
+  fitted_renderer_.set_eyes(eyes[0], eyes[1]);
+  target_renderer_.set_eyes(eyes[0], eyes[1]);
+  fitted_renderer_.Pose(fitted);
+  target_renderer_.Pose(posed_target);
+  const cv::Rect image_rect(0, 0, image.cols, image.rows);
+  const cv::Rect region = (ModelBounds(fitted_renderer_.posed(), camera, 0.02, eyes) |
+                           ModelBounds(target_renderer_.posed(), camera, 0.02, eyes)) & image_rect;
+  if (region.width < 8 || region.height < 4) {
+    report.note = "the eyes are outside the image";
+    return report;
+  }
+  const Camera crop_camera = camera.Cropped(region.x, region.y, region.width, region.height);
+  fitted_renderer_.Render(fitted, crop_camera, fitted_buffers_);
+  target_renderer_.Render(posed_target, crop_camera, target_buffers_);
+  cv::Mat photo;
+  image(region).convertTo(photo, CV_32FC3, 1.0 / 255);
+  const int width = region.width;
+
+  // Where each surface point of the re-posed model was in the photo.
+  ProjectParts(fitted_renderer_.posed(), crop_camera, {options_.warp_eyelids, options_.warp_eyelids, true, true}, sources_);
+  const cv::Mat source = Renderer::InterpolateAttribute(target_buffers_, *model_, sources_, 2);
+
+  // The eyelid warp: facial skin pixels fetch the photo where their surface was.
+  cv::Mat map(region.size(), CV_32FC2);
+  for (int y = 0; y < map.rows; ++y) {
+    for (int x = 0; x < map.cols; ++x) map.at<cv::Vec2f>(y, x) = {static_cast<float>(x), static_cast<float>(y)};
+  }
+  cv::Mat skin_mask(region.size(), CV_8UC1, cv::Scalar(0)), eyeball_mask(region.size(), CV_8UC1, cv::Scalar(0));
+  for (int pixel : target_buffers_.foreground) {
+    const int part = target_buffers_.PartAt(pixel);
+    if (IsEyeball(part)) {
+      eyeball_mask.data[pixel] = 255;
+    } else if (options_.warp_eyelids) {
+      map.at<cv::Vec2f>(pixel / width, pixel % width) = source.at<cv::Vec2f>(pixel / width, pixel % width);
+      skin_mask.data[pixel] = 255;
+    }
+  }
+  cv::Mat warped;
+  cv::remap(photo, warped, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+
+  // Reflections: the environment that explains the photo's highlights.
+  const auto& maps = BuiltInEnvironmentMaps();
+  double gain = 0;
+  int environment = options_.environment;
+  if (options_.specular) {
+    if (environment < 0 || environment >= static_cast<int>(maps.size())) {
+      environment = ChooseEnvironment(photo, crop_camera, gain);
+    } else {
+      double unused = 0;
+      ChooseEnvironment(photo, crop_camera, unused);
+      gain = unused;
+    }
+  }
+  report.environment = environment;
+  report.specular_gain = gain;
+  cv::Mat old_specular, new_specular;
+  if (gain > 0) {
+    Reflections(fitted_renderer_, fitted_buffers_, crop_camera, maps[environment], old_specular);
+    Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
+  }
+
+  // The new eyeballs: the photo's own eye surface where the fitted eyeball
+  // showed it (away from its old highlights), the rendering elsewhere.
+  cv::Mat fitted_eyeballs(region.size(), CV_8UC1, cv::Scalar(0));
+  for (int pixel : fitted_buffers_.foreground) {
+    if (IsEyeball(fitted_buffers_.PartAt(pixel))) fitted_eyeballs.data[pixel] = 255;
+  }
+  cv::erode(fitted_eyeballs, fitted_eyeballs, cv::Mat());  // keep clear of the old lid margin
+  cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
+  cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
+  // The rendering's colour is matched to the photo's eye where both are
+  // known, separately for the bright (sclera) and dark (iris) pixels.
+  float brightest = 0;
+  for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
+    if (IsEyeball(target_buffers_.PartAt(target_buffers_.foreground[i]))) {
+      brightest = std::max(brightest, Luminance(RenderedBgr(target_buffers_, i)));
+    }
+  }
+  const float sclera_threshold = 0.55f * brightest;
+  std::array<cv::Vec3d, 2> transferred_sum = {}, rendered_sum = {};
+  for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
+    const int pixel = target_buffers_.foreground[i];
+    const int part = target_buffers_.PartAt(pixel);
+    if (!IsEyeball(part)) continue;
+    const int x = pixel % width, y = pixel / width;
+    const cv::Vec3f colour = RenderedBgr(target_buffers_, i);
+    rendered.at<cv::Vec3f>(y, x) = colour;
+    if (!options_.transfer_eyeballs) continue;
+    const cv::Vec2f s = source.at<cv::Vec2f>(y, x);
+    const int sx = static_cast<int>(std::lround(s[0])), sy = static_cast<int>(std::lround(s[1]));
+    if (sx < 0 || sy < 0 || sx >= region.width || sy >= region.height) continue;
+    const int source_pixel = sy * width + sx;
+    if (!fitted_eyeballs.data[source_pixel] || fitted_buffers_.PartAt(source_pixel) != part) continue;
+    if (gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > 0.06f) continue;  // an old highlight
+    const cv::Vec3f value = Bilinear(photo, s[0], s[1]);
+    transferred.at<cv::Vec3f>(y, x) = value;
+    transfer_mask.data[pixel] = 255;
+    const int group = Luminance(colour) > sclera_threshold;
+    transferred_sum[group] += cv::Vec3d(value[0], value[1], value[2]);
+    rendered_sum[group] += cv::Vec3d(colour[0], colour[1], colour[2]);
+  }
+  std::array<cv::Vec3f, 2> colour_gain = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
+  for (int group = 0; group < 2; ++group) {
+    for (int c = 0; c < 3; ++c) {
+      if (rendered_sum[group][c] > 0.05) {
+        colour_gain[group][c] = static_cast<float>(std::clamp(transferred_sum[group][c] / rendered_sum[group][c], 0.5, 1.6));
+      }
+    }
+  }
+  cv::Mat transfer_weight;
+  transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(transfer_weight, transfer_weight, cv::Size(0, 0), 0.8);
+  cv::Mat seam_alpha;
+  eyeball_mask.convertTo(seam_alpha, CV_32F, 1.0 / 255);
+  const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
+  cv::GaussianBlur(seam_alpha, seam_alpha, cv::Size(0, 0), std::max(0.5, options_.seam_blur * interocular_px));
+
+  cv::Mat eyeball_layer = warped.clone(), out = warped.clone();
+  for (int y = 0; y < region.height; ++y) {
+    for (int x = 0; x < region.width; ++x) {
+      if (!eyeball_mask.at<uchar>(y, x)) continue;
+      const float w = transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
+      const cv::Vec3f plain = rendered.at<cv::Vec3f>(y, x);
+      cv::Vec3f colour = plain.mul(colour_gain[Luminance(plain) > sclera_threshold]);
+      colour = w * transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
+      if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
+      eyeball_layer.at<cv::Vec3f>(y, x) = colour;
+      const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
+      out.at<cv::Vec3f>(y, x) = a * colour + (1 - a) * warped.at<cv::Vec3f>(y, x);
+    }
+  }
+  out.convertTo(image(region), CV_8UC3, 255.0);
+  report.redirected = eyes;
+  report.region = region;
+
+  if (layers != nullptr) {
+    layers->flow.create(region.size(), CV_32FC2);
+    for (int y = 0; y < region.height; ++y) {
+      for (int x = 0; x < region.width; ++x) {
+        const cv::Vec2f s = map.at<cv::Vec2f>(y, x);
+        layers->flow.at<cv::Vec2f>(y, x) = {s[0] - x, s[1] - y};
+      }
+    }
+    layers->skin_mask = skin_mask;
+    layers->eyeball_mask = eyeball_mask;
+    layers->transfer_mask = transfer_mask;
+    eyeball_layer.convertTo(layers->eyeball_layer, CV_8UC3, 255.0);
+    if (!new_specular.empty()) {
+      cv::Mat grey;
+      cv::cvtColor(new_specular * gain, grey, cv::COLOR_BGR2GRAY);
+      grey.convertTo(layers->specular, CV_8U, 255.0);
+    } else {
+      layers->specular = cv::Mat(region.size(), CV_8UC1, cv::Scalar(0));
+    }
+  }
+  return report;
+}
+
+}  // namespace gazedirector

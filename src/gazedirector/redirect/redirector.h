@@ -1,0 +1,90 @@
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "gazedirector/geometry/camera.h"
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/redirect/environment_map.h"
+#include "gazedirector/render/renderer.h"
+
+namespace gazedirector {
+
+struct RedirectOptions {
+  // Warp the eyelids to follow the new gaze (off: "eyeballs only", one of
+  // the evaluation's conditions).
+  bool warp_eyelids = true;
+  // Reuse the photo's own iris and sclera wherever the fitted eyeball showed
+  // them (moved with the eyeball), the rendered eyeball elsewhere. Off: the
+  // rendered eyeball everywhere, as in the paper.
+  bool transfer_eyeballs = true;
+  bool specular = true;             // add reflections of the chosen environment map
+  int environment = -1;             // the environment map; -1 picks the one that explains the photo best
+  double seam_blur = 0.012;         // Gaussian sigma of the eyeball seam, as a fraction of the interocular distance in pixels
+  // An eye counts as closed (and is left alone) when less of its eyeball shows
+  // than this fraction of its eye opening when open.
+  double min_open_fraction = 0.15;
+  double max_closure_deg = 22;      // or its lid closure exceeds this
+};
+
+// What one redirection did.
+struct RedirectReport {
+  std::array<bool, 2> redirected = {false, false};  // per eye (Eye index)
+  std::string note;                                 // why an eye was left alone
+  int environment = -1;                             // the environment map used
+  double specular_gain = 0;
+  cv::Rect region;                                  // the image region changed
+};
+
+// Pictures of the steps, for --debug-dir. All of the region's size.
+struct RedirectLayers {
+  cv::Mat flow;           // CV_32FC2: where each output pixel's skin comes from, minus its position
+  cv::Mat skin_mask;      // 8-bit: the warped facial skin
+  cv::Mat eyeball_mask;   // 8-bit: the new eyeballs
+  cv::Mat transfer_mask;  // 8-bit: eyeball pixels taken from the photo (the rest rendered)
+  cv::Mat eyeball_layer;  // 8-bit BGR: the composited eyeball colours
+  cv::Mat specular;       // 8-bit: the added reflections
+};
+
+// The paper's gaze redirection: re-pose the fitted model, warp the eyelids of
+// the photo with a dense flow field rasterized from the model, and composite
+// new eyeballs between them. Not thread-safe; one per thread.
+class Redirector {
+ public:
+  explicit Redirector(std::shared_ptr<const EyeRegionModel> model, RedirectOptions options = {});
+
+  // Changes `image` (8-bit BGR) in place where the eyes of the face fitted
+  // by `fitted` are, so that they look as in `target` (Φ re-posed: gaze and
+  // eyelids). Eyes that are closed are left untouched and reported.
+  RedirectReport Redirect(cv::Mat& image, const Camera& camera, const Parameters& fitted, const Parameters& target,
+                          RedirectLayers* layers = nullptr);
+
+  RedirectOptions& options() { return options_; }
+
+ private:
+  std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& camera, std::string& note);
+  // The environment map (and its gain) whose reflections on the fitted
+  // eyeballs best explain the bright residuals of the photo.
+  int ChooseEnvironment(const cv::Mat& photo, const Camera& camera, double& gain);
+  // Specular radiance (RGB, before the gain) of every eyeball pixel of
+  // `buffers`, rendered by `renderer`; zero elsewhere.
+  void Reflections(const Renderer& renderer, const RenderBuffers& buffers, const Camera& camera,
+                   const EnvironmentMap& map, cv::Mat& specular) const;
+
+  std::shared_ptr<const EyeRegionModel> model_;
+  RedirectOptions options_;
+  Renderer fitted_renderer_;
+  Renderer target_renderer_;
+  RenderBuffers fitted_buffers_;
+  RenderBuffers target_buffers_;
+  std::array<Eigen::MatrixXf, kNumParts> sources_;
+};
+
+// Flow (CV_32FC2) as a picture: hue is direction, saturation is length
+// (full at `scale` pixels).
+cv::Mat FlowPicture(const cv::Mat& flow, double scale);
+
+}  // namespace gazedirector
