@@ -10,6 +10,7 @@
 
 #include "cli/common.h"
 #include "gazedirector/eval/columbia.h"
+#include "gazedirector/eval/redirect_columbia.h"
 #include "gazedirector/fit/fit_options.h"
 #include "gazedirector/eval/landmark_accuracy.h"
 #include "gazedirector/io/image_io.h"
@@ -39,6 +40,8 @@ struct EvalOptions {
   int iterations = 0;
   std::vector<std::string> fit_options;
   bool known_head_pose = false;
+  std::string out_dir;
+  std::string cdf_plot = "eval_redirect_columbia.png";
 };
 
 // Mean and median absolute yaw and pitch errors of a set of fits.
@@ -159,6 +162,93 @@ int RunColumbiaEval(const EvalOptions& options) {
   return 0;
 }
 
+// The cumulative distribution of per-crop errors for each condition, as the paper's figure.
+cv::Mat ErrorCdfPlot(const std::vector<RedirectColumbiaCase>& cases) {
+  LinePlot plot("Gaze redirection error on Columbia crops", "mean absolute pixel error (8-bit levels)",
+                "fraction of crops");
+  auto add = [&](const std::string& name, auto member, cv::Scalar colour) {
+    std::vector<double> errors;
+    for (const RedirectColumbiaCase& c : cases) errors.push_back(c.*member);
+    std::sort(errors.begin(), errors.end());
+    std::vector<double> fraction;
+    for (std::size_t i = 0; i < errors.size(); ++i) fraction.push_back((i + 1.0) / errors.size());
+    plot.AddSeries(name, errors, fraction, colour);
+  };
+  add("(a) no redirection", &RedirectColumbiaCase::error_none, cv::Scalar(120, 120, 120));
+  add("(b) eyeballs only", &RedirectColumbiaCase::error_eyeballs, cv::Scalar(200, 120, 30));
+  add("(c) eyeballs and eyelids", &RedirectColumbiaCase::error_full, cv::Scalar(40, 40, 210));
+  plot.SetYRange(0, 1);
+  return plot.Draw();
+}
+
+int RunRedirectColumbiaEval(const EvalOptions& options) {
+  ApplyLogLevel(options.common);
+  if (options.json) spdlog::set_level(spdlog::level::warn);
+  const std::filesystem::path dir =
+      options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
+  std::vector<ColumbiaCrop> crops;
+  for (const ColumbiaCrop& crop : ListColumbia(dir)) {
+    if (options.subjects.empty() ||
+        std::find(options.subjects.begin(), options.subjects.end(), crop.subject) != options.subjects.end()) {
+      crops.push_back(crop);
+    }
+  }
+  const Assets assets = Assets::Resolve(options.common.assets);
+  const auto model = EyeRegionModel::Load(assets);
+  FitOptions fit_options;
+  fit_options.work_width = 128;
+  if (options.iterations > 0) fit_options.max_iterations = options.iterations;
+  for (const std::string& assignment : options.fit_options) SetFitOption(fit_options, assignment);
+  std::unique_ptr<Progress> progress;
+  const std::filesystem::path out_dir(options.out_dir);
+  Timer timer;
+  const std::vector<RedirectColumbiaCase> cases = EvaluateRedirectColumbia(
+      crops, model, fit_options,
+      [&](const RedirectColumbiaCase& c, const cv::Mat& image) {
+        if (!options.out_dir.empty()) WriteImage(out_dir / c.target.path.filename(), image);
+      },
+      [&](int done, int total) {
+        if (!progress) progress = std::make_unique<Progress>("redirect-columbia", total, "crops", options.common.quiet || options.json);
+        progress->Update(done);
+      });
+  if (progress) progress->Finish();
+  if (cases.empty()) Fail(ExitCode::kBadInput, "no subject in {} has a 0P 0V 0H crop and others at head pose 0", dir.string());
+  std::vector<double> none, eyeballs, full;
+  int full_beats_eyeballs = 0, eyeballs_beat_none = 0;
+  for (const RedirectColumbiaCase& c : cases) {
+    none.push_back(c.error_none), eyeballs.push_back(c.error_eyeballs), full.push_back(c.error_full);
+    full_beats_eyeballs += c.error_full < c.error_eyeballs;
+    eyeballs_beat_none += c.error_eyeballs < c.error_none;
+  }
+  if (!options.cdf_plot.empty()) WriteImage(options.cdf_plot, ErrorCdfPlot(cases));
+  const double seconds = timer.Seconds();
+  if (options.json) {
+    fmt::print("{}\n", nlohmann::json{{"crops", cases.size()},
+                                      {"error_none", RoundTo(Mean(none), 3)},
+                                      {"error_eyeballs", RoundTo(Mean(eyeballs), 3)},
+                                      {"error_full", RoundTo(Mean(full), 3)},
+                                      {"median_none", RoundTo(Median(none), 3)},
+                                      {"median_eyeballs", RoundTo(Median(eyeballs), 3)},
+                                      {"median_full", RoundTo(Median(full), 3)},
+                                      {"full_beats_eyeballs", RoundTo(double(full_beats_eyeballs) / cases.size(), 3)},
+                                      {"eyeballs_beat_none", RoundTo(double(eyeballs_beat_none) / cases.size(), 3)},
+                                      {"seconds", RoundTo(seconds, 1)}}
+                                .dump());
+    return 0;
+  }
+  fmt::print("gaze redirection on {} Columbia crops in {} (head pose 0, from each subject's 0V 0H crop)\n", cases.size(),
+             dir.string());
+  fmt::print("mean absolute pixel error (8-bit levels)     mean   median\n");
+  fmt::print("  (a) no redirection                      {:>7.2f} {:>8.2f}\n", Mean(none), Median(none));
+  fmt::print("  (b) eyeballs only                       {:>7.2f} {:>8.2f}\n", Mean(eyeballs), Median(eyeballs));
+  fmt::print("  (c) eyeballs and eyelids                {:>7.2f} {:>8.2f}\n", Mean(full), Median(full));
+  fmt::print("(b) better than (a) on {:.0f}% of crops, (c) better than (b) on {:.0f}%\n", 100.0 * eyeballs_beat_none / cases.size(),
+             100.0 * full_beats_eyeballs / cases.size());
+  if (!options.cdf_plot.empty()) fmt::print("error curves: {}\n", options.cdf_plot);
+  if (!options.out_dir.empty()) fmt::print("redirected crops (c): {}\n", options.out_dir);
+  return 0;
+}
+
 int RunLandmarkEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   const std::filesystem::path xml = options.landmarks_xml.empty()
@@ -215,9 +305,20 @@ Command RegisterEvalCommand(CLI::App& root) {
                      "Give the fitter the head's yaw from the file name (P) instead of estimating it from one eye");
   columbia->add_option("--fit", options->fit_options, "Fitter options as name=value (" + fmt::format("{}", fmt::join(ListFitOptions(), ", ")) + ")");
   AddCommonOptions(*columbia, options->common);
-  return {app, [options, landmarks, columbia] {
+
+  CLI::App* redirect = app->add_subcommand("redirect-columbia",
+                                           "Redirection error on Columbia crops: each subject's 0V 0H crop redirected to the other gazes");
+  redirect->add_option("dir", options->columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
+  redirect->add_flag("--json", options->json, "Print one JSON object");
+  redirect->add_option("--plot", options->cdf_plot, "Write the cumulative error curves here (PNG)")->capture_default_str();
+  redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c) under the name of the real crop it imitates");
+  redirect->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
+  redirect->add_option("--fit", options->fit_options, "Fitter options as name=value");
+  AddCommonOptions(*redirect, options->common);
+  return {app, [options, landmarks, columbia, redirect] {
             if (landmarks->parsed()) return RunLandmarkEval(*options);
             if (columbia->parsed()) return RunColumbiaEval(*options);
+            if (redirect->parsed()) return RunRedirectColumbiaEval(*options);
             return static_cast<int>(ExitCode::kUsage);
           }};
 }

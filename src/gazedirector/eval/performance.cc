@@ -5,7 +5,10 @@
 #include <vector>
 
 #include "gazedirector/io/video_reader.h"
+#include "gazedirector/redirect/gaze_target.h"
+#include "gazedirector/redirect/redirector.h"
 #include "gazedirector/render/renderer.h"
+#include "gazedirector/video/gaze_tracker.h"
 #include "gazedirector/util/timer.h"
 
 namespace gazedirector {
@@ -53,6 +56,85 @@ double MeasureRendersPerSecond(std::shared_ptr<const EyeRegionModel> model, int 
   stop = true;
   for (std::thread& worker : workers) worker.join();
   return renders / timer.Seconds();
+}
+
+TrackedClip LoadTrackedClip(const std::filesystem::path& video, FaceTracker& tracker, int max_frames) {
+  VideoReader reader(video);
+  TrackedClip clip;
+  clip.camera = Camera::Default(reader.info().width, reader.info().height);
+  tracker.Reset();
+  cv::Mat frame;
+  while (static_cast<int>(clip.frames.size()) < max_frames && reader.Read(frame)) {
+    const std::vector<Face> faces = tracker.TrackFrame(frame, reader.timestamp_s(), clip.camera);
+    if (faces.empty()) continue;
+    clip.frames.push_back(frame.clone());
+    clip.faces.push_back(faces.front());
+  }
+  return clip;
+}
+
+namespace {
+
+// The tracker's warm fitter options, with the settled blocks held.
+FitOptions SettledWarmOptions() {
+  FitOptions options = GazeTrackerOptions::Defaults().warm;
+  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kInterocular}) {
+    for (int i = 0; i < LayoutOf(block).size; ++i) options.free[LayoutOf(block).offset + i] = false;
+  }
+  return options;
+}
+
+}  // namespace
+
+double MeasureFitFps(std::shared_ptr<const EyeRegionModel> model, const TrackedClip& clip) {
+  if (clip.frames.size() < 2) return 0;
+  auto pool = std::make_shared<ThreadPool>();
+  Fitter fresh(model, FitOptions{}, pool);
+  Fitter warm(model, SettledWarmOptions(), pool);
+  Parameters phi = fresh.FitFace(clip.frames[0], clip.camera, clip.faces[0]).phi;
+  Timer timer;
+  for (std::size_t i = 1; i < clip.frames.size(); ++i) {
+    phi = warm.FitFace(clip.frames[i], clip.camera, clip.faces[i], &phi).phi;
+  }
+  return (clip.frames.size() - 1) / timer.Seconds();
+}
+
+double MeasureTrackFps(std::shared_ptr<const EyeRegionModel> model, std::shared_ptr<const LandmarkDetector> landmarks,
+                       const MeanFace& mean_face, const std::filesystem::path& video, int max_frames) {
+  GazeTracker tracker(model, landmarks, mean_face);
+  Timer timer;
+  VideoReader reader(video);
+  const Camera camera = Camera::Default(reader.info().width, reader.info().height);
+  cv::Mat frame;
+  long frames = 0;
+  while (frames < max_frames && reader.Read(frame)) {
+    tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    ++frames;
+  }
+  return frames / timer.Seconds();
+}
+
+double MeasureRedirectFps(std::shared_ptr<const EyeRegionModel> model, const TrackedClip& clip) {
+  if (clip.frames.empty()) return 0;
+  auto pool = std::make_shared<ThreadPool>();
+  Fitter fresh(model, FitOptions{}, pool);
+  Fitter warm(model, SettledWarmOptions(), pool);
+  std::vector<Parameters> fits;
+  for (std::size_t i = 0; i < clip.frames.size(); ++i) {
+    fits.push_back(i == 0 ? fresh.FitFace(clip.frames[i], clip.camera, clip.faces[i]).phi
+                          : warm.FitFace(clip.frames[i], clip.camera, clip.faces[i], &fits.back()).phi);
+  }
+  Redirector redirector(model);
+  cv::Mat frame;
+  redirector.options().environment = 0;
+  clip.frames[0].copyTo(frame);
+  redirector.options().environment = redirector.Redirect(frame, clip.camera, fits[0], Retarget(fits[0], GazeTarget::Camera())).environment;
+  Timer timer;
+  for (std::size_t i = 0; i < clip.frames.size(); ++i) {
+    clip.frames[i].copyTo(frame);
+    redirector.Redirect(frame, clip.camera, fits[i], Retarget(fits[i], GazeTarget::Camera()));
+  }
+  return clip.frames.size() / timer.Seconds();
 }
 
 }  // namespace gazedirector

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "gazedirector/eval/columbia.h"
+#include "gazedirector/fit/fitter.h"
+
+namespace gazedirector {
+
+// One redirected Columbia crop: the subject's 0V 0H crop (head pose 0)
+// redirected to another (V, H), compared with the real crop of that gaze.
+struct RedirectColumbiaCase {
+  ColumbiaCrop source;
+  ColumbiaCrop target;
+  // Mean absolute per-pixel error (8-bit levels, over pixels and channels):
+  double error_none = 0;      // the source crop itself
+  double error_eyeballs = 0;  // eyeballs redirected, eyelids as they were
+  double error_full = 0;      // eyeballs and eyelids redirected
+  bool fit_good = false;
+};
+
+// Runs the paper's redirection evaluation on the crops of `dir` at head pose
+// 0 (subjects limited to `subjects` when not empty). `on_output` receives
+// each fully redirected crop (condition c); `progress` the number done.
+std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
+    const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model, const FitOptions& fit_options,
+    const std::function<void(const RedirectColumbiaCase&, const cv::Mat&)>& on_output = nullptr,
+    const std::function<void(int done, int total)>& progress = nullptr);
+
+// Mean absolute difference of two 8-bit images of the same size.
+double MeanAbsoluteError(const cv::Mat& a, const cv::Mat& b);
+
+}  // namespace gazedirector
