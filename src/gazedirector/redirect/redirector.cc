@@ -243,7 +243,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   for (int pixel : fitted_buffers_.foreground) {
     if (IsEyeball(fitted_buffers_.PartAt(pixel))) fitted_eyeballs.data[pixel] = 255;
   }
-  cv::erode(fitted_eyeballs, fitted_eyeballs, cv::Mat());  // keep clear of the old lid margin
+  // Keep clear of the old lid margin, where a slightly wide fit shows skin.
+  cv::erode(fitted_eyeballs, fitted_eyeballs, cv::Mat(), cv::Point(-1, -1), 2);
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
   // The rendering's colour is matched to the photo's eye where both are

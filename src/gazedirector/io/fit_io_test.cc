@@ -1,0 +1,77 @@
+#include "gazedirector/io/fit_io.h"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "gazedirector/util/error.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+FaceFit SomeFit(int id) {
+  FaceFit fit;
+  fit.face.id = id;
+  fit.face.confidence = 0.9;
+  fit.fit.phi.block<Block::kTranslation>() = Eigen::Vector3d(10, -5, 550);
+  fit.fit.phi.gaze_pitch() = -7.25;
+  fit.fit.phi.gaze_yaw() = 13.5;
+  fit.fit.phi.shape()[3] = 0.75;
+  fit.fit.good = id % 2 == 0;
+  fit.fit.note = fit.fit.good ? "" : "the eyes do not match";
+  return fit;
+}
+
+TEST(FitIoTest, FitsWrittenAsJsonLinesReadBack) {
+  const auto path = testing::ScratchDir("fit_io") / "fits.jsonl";
+  const Camera camera = Camera::Default(512, 512);
+  {
+    std::ofstream out(path);
+    out << FrameRecord(0, 0.0, {SomeFit(0), SomeFit(1)}, &camera).dump() << '\n';
+    out << FrameRecord(1, 1 / 30.0, {}).dump() << '\n';
+    out << FrameRecord(2, 2 / 30.0, {SomeFit(0)}).dump() << '\n';
+  }
+  const FitsFile file = ReadFits(path);
+  ASSERT_TRUE(file.camera.has_value());
+  EXPECT_EQ(file.camera->width, 512);
+  ASSERT_EQ(file.frames.size(), 3u);
+  const StoredFrame& first = file.frames.at(0);
+  ASSERT_EQ(first.faces.size(), 2u);
+  EXPECT_EQ(first.faces[1].face_id, 1);
+  EXPECT_FALSE(first.faces[1].good);
+  EXPECT_EQ(first.faces[1].note, "the eyes do not match");
+  EXPECT_NEAR(first.faces[0].phi.gaze_pitch(), -7.25, 1e-9);
+  EXPECT_NEAR(first.faces[0].phi.shape()[3], 0.75, 1e-9);
+  EXPECT_TRUE(file.frames.at(1).faces.empty());
+  EXPECT_NEAR(file.frames.at(2).timestamp_s, 2 / 30.0, 1e-3);
+}
+
+TEST(FitIoTest, CsvRowsMatchTheOpenFaceColumns) {
+  const FaceFit fit = SomeFit(0);
+  EXPECT_EQ(FitCsvRow(3, 0.1, &fit).size(), FitCsvColumns().size());
+  EXPECT_EQ(FitCsvRow(3, 0.1, nullptr).size(), FitCsvColumns().size());
+  const auto columns = FitCsvColumns();
+  for (const char* name : {"gaze_0_x", "gaze_1_z", "gaze_angle_x", "gaze_angle_y", "pose_Rx"}) {
+    EXPECT_NE(std::find(columns.begin(), columns.end(), name), columns.end()) << name;
+  }
+}
+
+TEST(FitIoTest, BrokenFilesFailWithTheLine) {
+  const auto path = testing::ScratchDir("fit_io_bad") / "fits.jsonl";
+  {
+    std::ofstream out(path);
+    out << FrameRecord(0, 0.0, {SomeFit(0)}).dump() << "\n{not json\n";
+  }
+  try {
+    ReadFits(path);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::kBadInput);
+    EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadFits(path.parent_path() / "missing.jsonl"), Error);
+}
+
+}  // namespace
+}  // namespace gazedirector

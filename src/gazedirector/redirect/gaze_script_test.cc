@@ -1,0 +1,56 @@
+#include "gazedirector/redirect/gaze_script.h"
+
+#include <gtest/gtest.h>
+
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace {
+
+GazeScript Script() {
+  return GazeScript::FromJson(nlohmann::json::parse(R"({
+    "transition_s": 0.4,
+    "segments": [{"start_s": 0, "target": "camera"},
+                 {"start_s": 3, "target": {"gaze": [0, 25], "frame": "head"}},
+                 {"start_s": 5, "reading": {"width_deg": 20, "line_s": 1.0, "lines": 3, "line_spacing_deg": 4, "pitch_deg": -6}}]})"));
+}
+
+Parameters Fitted() {
+  Parameters phi;
+  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, 600);
+  return phi;
+}
+
+TEST(GazeScriptTest, HoldsEachTargetAndEasesBetweenThem) {
+  const GazeScript script = Script();
+  const Parameters fitted = Fitted();
+  EXPECT_NEAR(script.TargetAt(fitted, 1.0).gaze_yaw(), 0.0, 1e-9);   // the camera, straight ahead
+  EXPECT_NEAR(script.TargetAt(fitted, 4.0).gaze_yaw(), 25.0, 1e-9);  // after the transition
+  const double midway = script.TargetAt(fitted, 3.2).gaze_yaw();
+  EXPECT_GT(midway, 5.0);
+  EXPECT_LT(midway, 20.0);
+  // No jumps: 10 ms apart, the gaze moves a little.
+  for (double t = 0; t < 8; t += 0.05) {
+    EXPECT_LT(std::abs(script.TargetAt(fitted, t + 0.01).gaze_yaw() - script.TargetAt(fitted, t).gaze_yaw()), 3.0) << t;
+  }
+}
+
+TEST(GazeScriptTest, ReadingSweepsAlongLinesMovingDown) {
+  const GazeScript script = Script();
+  const Parameters fitted = Fitted();
+  // Within a line the yaw goes from the subject's left (+) to the right (-).
+  const double start = script.TargetAt(fitted, 5.45).gaze_yaw(), end = script.TargetAt(fitted, 5.95).gaze_yaw();
+  EXPECT_GT(start, end + 5);
+  // Each line lower than the last.
+  const double line1 = script.TargetAt(fitted, 5.8).gaze_pitch(), line2 = script.TargetAt(fitted, 7.0).gaze_pitch();
+  EXPECT_NEAR(line1 - line2, 4.0, 1e-9);
+}
+
+TEST(GazeScriptTest, RejectsBadScripts) {
+  EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": []})")), Error);
+  EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"start_s": 2, "target": "camera"}, {"start_s": 1, "target": "camera"}]})")), Error);
+  EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"start_s": 0}]})")), Error);
+}
+
+}  // namespace
+}  // namespace gazedirector

@@ -1,0 +1,140 @@
+#include "gazedirector/redirect/redirector.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/face/face_tracker.h"
+#include "gazedirector/fit/face_fit.h"
+#include "gazedirector/fit/fitter.h"
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/redirect/gaze_target.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+struct FittedPhoto {
+  std::shared_ptr<const EyeRegionModel> model;
+  cv::Mat image;
+  Camera camera;
+  Parameters phi;
+};
+
+// d30.jpg (a near-frontal portrait) with its model fitted, once per test binary.
+const FittedPhoto& Photo() {
+  static const FittedPhoto photo = [] {
+    FittedPhoto p;
+    p.model = EyeRegionModel::Load(testing::TestAssets());
+    p.image = ReadImage(testing::DataPath("images/d30.jpg"));
+    p.camera = Camera::Default(p.image.cols, p.image.rows);
+    FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+    const std::vector<Face> faces = tracker.DetectFaces(p.image, p.camera);
+    Fitter fitter(p.model);
+    const FitResult fit = fitter.FitFace(p.image, p.camera, faces.at(0));
+    EXPECT_TRUE(fit.good) << fit.note;
+    p.phi = fit.phi;
+    return p;
+  }();
+  return photo;
+}
+
+// The centroid of the darkest pixels (the irises and pupils) among the
+// eyeball pixels of `mask` in `image`.
+cv::Point2d DarkCentroid(const cv::Mat& image, const cv::Mat& mask) {
+  cv::Mat grey;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  std::vector<uchar> values;
+  for (int i = 0; i < grey.rows * grey.cols; ++i) {
+    if (mask.data[i]) values.push_back(grey.data[i]);
+  }
+  std::nth_element(values.begin(), values.begin() + values.size() / 5, values.end());
+  const uchar threshold = values[values.size() / 5];
+  cv::Point2d sum(0, 0);
+  double count = 0;
+  for (int i = 0; i < grey.rows * grey.cols; ++i) {
+    if (mask.data[i] && grey.data[i] <= threshold) sum += cv::Point2d(i % grey.cols, i / grey.cols), ++count;
+  }
+  return sum / count;
+}
+
+TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
+  const FittedPhoto& p = Photo();
+  Redirector redirector(p.model);
+  cv::Mat result = p.image.clone();
+  const RedirectReport report = redirector.Redirect(result, p.camera, p.phi, p.phi);
+  ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
+  cv::Mat outside = cv::Mat::ones(p.image.size(), CV_8UC1) * 255;
+  outside(report.region).setTo(0);
+  cv::Mat difference;
+  cv::absdiff(result, p.image, difference);
+  EXPECT_EQ(cv::norm(difference, cv::NORM_INF, outside), 0.0);
+  EXPECT_LT(cv::mean(difference(report.region))[1], 2.0);
+}
+
+TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
+  const FittedPhoto& p = Photo();
+  Redirector redirector(p.model);
+  RedirectLayers still_layers, moved_layers;
+  cv::Mat still = p.image.clone(), moved = p.image.clone();
+  const Parameters target = Retarget(p.phi, GazeTarget::Offset(0, 15));  // toward the subject's left: image right
+  redirector.Redirect(still, p.camera, p.phi, p.phi, &still_layers);
+  const RedirectReport report = redirector.Redirect(moved, p.camera, p.phi, target, &moved_layers);
+  ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
+  // Over the same pixels before and after: the eye openings of both.
+  cv::Mat both;
+  cv::bitwise_or(still_layers.eyeball_mask, moved_layers.eyeball_mask, both);
+  // Each eye on its own (the region's halves), then their mean.
+  cv::Point2d before(0, 0), after(0, 0);
+  for (int half = 0; half < 2; ++half) {
+    cv::Mat mask = both.clone();
+    mask(cv::Rect(half == 0 ? mask.cols / 2 : 0, 0, mask.cols - mask.cols / 2, mask.rows)).setTo(0);
+    before += 0.5 * DarkCentroid(still(report.region), mask);
+    after += 0.5 * DarkCentroid(moved(report.region), mask);
+  }
+  // The model's own prediction: the mean image motion of the two iris centres
+  // (10.5 mm in front of the eyeball centres).
+  double predicted = 0;
+  const std::array<EyeGaze, 2> from = EyeGazes(p.phi), to = EyeGazes(target);
+  for (int eye = 0; eye < 2; ++eye) {
+    predicted += 0.5 * (p.camera.Project(to[eye].centre + 10.5 * to[eye].gaze) -
+                        p.camera.Project(from[eye].centre + 10.5 * from[eye].gaze)).x();
+  }
+  EXPECT_GT(after.x - before.x, 0.7 * predicted);
+  EXPECT_LT(after.x - before.x, 1.4 * predicted);
+  EXPECT_LT(std::abs(after.y - before.y), 0.3 * predicted);
+}
+
+TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
+  const FittedPhoto& p = Photo();
+  Redirector redirector(p.model);
+  Parameters closed = p.phi;
+  closed.eyelid_closure() = 35;
+  cv::Mat result = p.image.clone();
+  const RedirectReport report = redirector.Redirect(result, p.camera, closed, Retarget(closed, GazeTarget::Offset(0, 20)));
+  EXPECT_FALSE(report.redirected[0] || report.redirected[1]);
+  EXPECT_NE(report.note.find("closed"), std::string::npos);
+  EXPECT_EQ(cv::norm(result, p.image, cv::NORM_INF), 0.0);
+}
+
+TEST(RedirectorTest, TheEyelidWarpFollowsTheGaze) {
+  const FittedPhoto& p = Photo();
+  Redirector redirector(p.model);
+  RedirectLayers layers;
+  cv::Mat result = p.image.clone();
+  redirector.Redirect(result, p.camera, p.phi, Retarget(p.phi, GazeTarget::Offset(-15, 0)), &layers);
+  // Looking down lowers the upper lids: their skin comes from above (negative y flow... the
+  // source lies above the output pixel), so the mean vertical flow over the skin is negative.
+  double flow_y = 0;
+  int count = 0;
+  for (int y = 0; y < layers.flow.rows; ++y) {
+    for (int x = 0; x < layers.flow.cols; ++x) {
+      const float f = layers.flow.at<cv::Vec2f>(y, x)[1];
+      if (layers.skin_mask.at<uchar>(y, x) && std::abs(f) > 0.3f) flow_y += f, ++count;
+    }
+  }
+  ASSERT_GT(count, 20);
+  EXPECT_LT(flow_y / count, -0.3);
+}
+
+}  // namespace
+}  // namespace gazedirector

@@ -1,0 +1,129 @@
+// End-to-end tests of `gazedirector track` and `gazedirector redirect` on real photos and videos.
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "gazedirector/io/image_io.h"
+#include "gazedirector/io/video_reader.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::DataPath;
+using testing::RunCli;
+using testing::ScratchDir;
+
+std::string Quote(const fs::path& path) { return "'" + path.string() + "'"; }
+
+bool NoPartialFiles(const fs::path& dir) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".partial") != std::string::npos) return false;
+  }
+  return true;
+}
+
+long CountFrames(const fs::path& video) {
+  VideoReader reader(video);
+  cv::Mat frame;
+  long frames = 0;
+  while (reader.Read(frame)) ++frames;
+  return frames;
+}
+
+TEST(CliGazeTest, TrackWritesFitsGazeCsvAndOverlayForAPortrait) {
+  const fs::path dir = ScratchDir("cli_track_image");
+  std::string output;
+  ASSERT_EQ(RunCli("track " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "fits.json") + " --csv " +
+                       Quote(dir / "gaze.csv") + " --overlay " + Quote(dir / "overlay.png"),
+                   &output),
+            0)
+      << output;
+  std::ifstream stream(dir / "fits.json");
+  const nlohmann::json fits = nlohmann::json::parse(stream);
+  ASSERT_EQ(fits["faces"].size(), 1u);
+  const nlohmann::json& face = fits["faces"][0];
+  EXPECT_TRUE(face["fit"]["good"].get<bool>());
+  EXPECT_TRUE(face["parameters"].contains("gaze_pitch_yaw_vergence_deg"));
+  // She looks into the camera: each eye's gaze points back toward it (z < 0, within 20 degrees).
+  for (const char* eye : {"left", "right"}) {
+    const auto& g = face["eyes"][eye]["gaze"];
+    EXPECT_LT(g[2].get<double>(), -std::cos(20 * M_PI / 180)) << eye;
+  }
+  std::ifstream csv(dir / "gaze.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("frame,face_id,timestamp,confidence,success,gaze_0_x", 0), 0u) << header;
+  EXPECT_EQ(ReadImage(dir / "overlay.png").size(), ReadImage(DataPath("images/d30.jpg")).size());
+}
+
+TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
+  const fs::path dir = ScratchDir("cli_redirect_image");
+  std::string output;
+  ASSERT_EQ(RunCli("redirect " + Quote(DataPath("images/d19.jpg")) + " -o " + Quote(dir / "out.jpg") +
+                       " --look-at camera --side-by-side --debug-dir " + Quote(dir / "debug"),
+                   &output),
+            0)
+      << output;
+  const cv::Mat input = ReadImage(DataPath("images/d19.jpg")), result = ReadImage(dir / "out.jpg");
+  EXPECT_EQ(result.cols, 2 * input.cols);
+  EXPECT_EQ(result.rows, input.rows);
+  for (const char* name : {"fit_overlay.png", "flow.png", "eyeball_mask.png", "skin_mask.png", "eyeball_layer.png"}) {
+    EXPECT_TRUE(fs::exists(dir / "debug" / name)) << name;
+  }
+  EXPECT_NE(output.find("redirected"), std::string::npos) << output;
+}
+
+TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
+  const fs::path dir = ScratchDir("cli_redirect_bad");
+  std::string output;
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "a.jpg") + " --look-at 1,2", &output), 2)
+      << output;
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "b.jpg") +
+                       " --look-at camera --offset 1,2",
+                   &output),
+            2)
+      << output;
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/s39.jpg")) + " -o " + Quote(dir / "cat.jpg"), &output), 3) << output;
+  EXPECT_NE(output.find("no face"), std::string::npos) << output;
+  {
+    std::ofstream script(dir / "bad_script.json");
+    script << R"({"segments": [{"start_s": 0, "target": {"look_at": "there"}}]})";
+  }
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("video/d19.mp4")) + " -o " + Quote(dir / "v.mp4") + " --script " +
+                       Quote(dir / "bad_script.json"),
+                   &output),
+            4)
+      << output;
+  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "cat.jpg") ||
+               fs::exists(dir / "v.mp4"));
+  EXPECT_TRUE(NoPartialFiles(dir));
+}
+
+TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
+  const fs::path dir = ScratchDir("cli_redirect_video");
+  const fs::path input = DataPath("video/d19.mp4");
+  std::string output;
+  ASSERT_EQ(RunCli("redirect " + Quote(input) + " -o " + Quote(dir / "camera.mp4") + " --look-at camera", &output), 0)
+      << output;
+  EXPECT_EQ(CountFrames(dir / "camera.mp4"), CountFrames(input));
+  const fs::path fits = dir / "camera.mp4.fits.jsonl";
+  ASSERT_TRUE(fs::exists(fits));
+  // A second run re-renders from the stored fits, without tracking again.
+  ASSERT_EQ(RunCli("redirect " + Quote(input) + " -o " + Quote(dir / "camera.mp4") + " --offset 0,10", &output), 0) << output;
+  EXPECT_NE(output.find("reusing the fits"), std::string::npos) << output;
+  // Two stages: edited fits are used as given.
+  ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "left.mp4") +
+                       " --gaze 0,-20 --frame head",
+                   &output),
+            0)
+      << output;
+  EXPECT_EQ(CountFrames(dir / "left.mp4"), CountFrames(input));
+  EXPECT_TRUE(NoPartialFiles(dir));
+}
+
+}  // namespace
+}  // namespace gazedirector
