@@ -7,10 +7,66 @@ out=docs/images
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$out"
+data=../shared/data
 
 # Landmarks and head pose on a portrait and on a group photo.
-$gd landmarks ../shared/data/images/d30.jpg -o "$tmp/d30.json" --overlay "$tmp/d30.png" -q
-$gd landmarks ../shared/data/dlib-faces/bald_guys.jpg -o "$tmp/group.json" --overlay "$tmp/group.png" -q
+$gd landmarks $data/images/d30.jpg -o "$tmp/d30.json" --overlay "$tmp/d30.png" -q
+$gd landmarks $data/dlib-faces/bald_guys.jpg -o "$tmp/group.json" --overlay "$tmp/group.png" -q
 ffmpeg -v error -y -i "$tmp/d30.png" -vf "crop=400:400:100:130" "$out/landmarks_d30.jpg"
 ffmpeg -v error -y -i "$tmp/group.png" -vf "scale=900:-2" -q:v 4 "$out/landmarks_group.jpg"
+
+# The model at several gaze directions, the eyelids following (the paper's lid figure).
+tiles=()
+for pitch in 20 0 -20; do
+  for yaw in 25 0 -25; do
+    $gd render --gaze "$pitch,$yaw" --eyelid "$pitch" --size 400x200 -o "$tmp/model_${pitch}_${yaw}.png" -q
+    tiles+=(-i "$tmp/model_${pitch}_${yaw}.png")
+  done
+done
+ffmpeg -v error -y "${tiles[@]}" -filter_complex "xstack=inputs=9:layout=0_0|w0_0|w0+w1_0|0_h0|w0_h0|w0+w1_h0|0_h0+h1|w0_h0+h1|w0+w1_h0+h1" "$out/model_gaze_grid.png"
+
+# The fitted model and gaze rays over a real face.
+$gd track $data/images/d30.jpg -o "$tmp/d30_fit.json" --overlay "$tmp/d30_fit.png" -q
+ffmpeg -v error -y -i "$tmp/d30_fit.png" -vf "crop=300:150:110:190,scale=600:-2" "$out/fit_d30.jpg"
+
+# Eye contact on real faces: before | after.
+for name in d30 d19 s12; do
+  $gd redirect $data/images/$name.jpg -o "$tmp/${name}_contact.png" --look-at camera --side-by-side -q
+done
+ffmpeg -v error -y -i "$tmp/d30_contact.png" -vf "crop=1200:260:0:170,scale=900:-2" "$out/eye_contact_d30.jpg"
+ffmpeg -v error -y -i "$tmp/d19_contact.png" -vf "scale=900:-2" -q:v 3 "$out/eye_contact_d19.jpg"
+ffmpeg -v error -y -i "$tmp/s12_contact.png" -vf "scale=900:-2" -q:v 3 "$out/eye_contact_s12.jpg"
+
+# Large angles: one face over pitch -15..15 and yaw -45..45 degrees (head frame).
+tiles=()
+for pitch in 15 0 -15; do
+  for yaw in 45 30 15 0 -15 -30 -45; do
+    $gd redirect $data/images/d30.jpg --fits "$tmp/d30_fit.json" -o "$tmp/grid_${pitch}_${yaw}.png" \
+      --gaze "$pitch,$yaw" --frame head -q
+    ffmpeg -v error -y -i "$tmp/grid_${pitch}_${yaw}.png" -vf "crop=200:80:140:212" "$tmp/grid_${pitch}_${yaw}_crop.png"
+    tiles+=(-i "$tmp/grid_${pitch}_${yaw}_crop.png")
+  done
+done
+layout=""
+for row in 0 1 2; do
+  for col in 0 1 2 3 4 5 6; do layout+="$((col * 200))_$((row * 80))|"; done
+done
+ffmpeg -v error -y "${tiles[@]}" -filter_complex "xstack=inputs=21:layout=${layout%|},scale=1400:-2" "$out/large_angles_d30.jpg"
+
+# Video: d3.mp4 redirected to the camera, and a scripted behaviour, beside the original.
+cat > "$tmp/script.json" <<'JSON'
+{"transition_s": 0.3,
+ "segments": [{"start_s": 0, "target": "camera"},
+              {"start_s": 3, "target": {"look_at": [-400, 0, 100]}},
+              {"start_s": 5, "reading": {"width_deg": 24, "line_s": 1.2, "lines": 4, "line_spacing_deg": 3, "pitch_deg": -8}}]}
+JSON
+cp "$tmp/script.json" docs/gaze_script_example.json
+$gd redirect $data/video/d3.mp4 -o "$tmp/d3_camera.mp4" --look-at camera --side-by-side -q
+$gd redirect $data/video/d3.mp4 --fits "$tmp/d3_camera.mp4.fits.jsonl" -o "$tmp/d3_script.mp4" --script "$tmp/script.json" --side-by-side -q
+ffmpeg -v error -y -i "$tmp/d3_camera.mp4" -t 3 -vf "crop=1024:220:0:130,fps=8,scale=480:-2:flags=lanczos,split[a][b];[a]palettegen[p];[b][p]paletteuse" "$out/d3_eye_contact.gif"
+ffmpeg -v error -y -ss 4.5 -i "$tmp/d3_script.mp4" -t 5 -vf "crop=1024:220:0:130,fps=8,scale=480:-2:flags=lanczos,split[a][b];[a]palettegen[p];[b][p]paletteuse" "$out/d3_reading.gif"
+
+# Evaluation figures.
+$gd eval redirect-columbia --plot "$out/eval_redirect_columbia.png" -q > "$tmp/redirect_columbia.txt"
+$gd eval columbia --every 20 --plot "$out/eval_columbia.png" -q > "$tmp/columbia.txt"
 echo "figures written to $out"
