@@ -19,11 +19,6 @@ constexpr int kDomainMargin = 2;   // pixels around the model whose residuals a 
 constexpr int kMaxBacktracks = 4;  // halvings of η before a step is given up
 constexpr double kDamping = 1e-4;  // Levenberg-Marquardt damping relative to the diagonal
 
-bool IsLinear(int index) {
-  const std::vector<int>& linear = Renderer::LinearParameters();
-  return std::find(linear.begin(), linear.end(), index) != linear.end();
-}
-
 // The observed region at a working scale: float RGB in [0, 1].
 cv::Mat ObservedRegion(const cv::Mat& image, const cv::Rect& region, cv::Size size) {
   cv::Mat resized;

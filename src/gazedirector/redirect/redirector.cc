@@ -278,12 +278,15 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     transferred_sum[group] += cv::Vec3d(value[0], value[1], value[2]);
     rendered_sum[group] += cv::Vec3d(colour[0], colour[1], colour[2]);
   }
+  // One gain per group for all channels: a per-channel gain would tint the
+  // white of the eye with whatever skin a slightly wide fit let in.
   std::array<cv::Vec3f, 2> colour_gain = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
   for (int group = 0; group < 2; ++group) {
-    for (int c = 0; c < 3; ++c) {
-      if (rendered_sum[group][c] > 0.05) {
-        colour_gain[group][c] = static_cast<float>(std::clamp(transferred_sum[group][c] / rendered_sum[group][c], 0.5, 1.6));
-      }
+    const double rendered_total = rendered_sum[group][0] + rendered_sum[group][1] + rendered_sum[group][2];
+    const double transferred_total = transferred_sum[group][0] + transferred_sum[group][1] + transferred_sum[group][2];
+    if (rendered_total > 0.15) {
+      const float g = static_cast<float>(std::clamp(transferred_total / rendered_total, 0.5, 1.6));
+      colour_gain[group] = cv::Vec3f(g, g, g);
     }
   }
   cv::Mat transfer_weight;
