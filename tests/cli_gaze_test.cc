@@ -14,17 +14,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::DataPath;
+using testing::NoPartialFiles;
+using testing::Quote;
 using testing::RunCli;
 using testing::ScratchDir;
-
-std::string Quote(const fs::path& path) { return "'" + path.string() + "'"; }
-
-bool NoPartialFiles(const fs::path& dir) {
-  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-    if (entry.path().filename().string().find(".partial") != std::string::npos) return false;
-  }
-  return true;
-}
 
 long CountFrames(const fs::path& video) {
   VideoReader reader(video);

@@ -12,10 +12,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::DataPath;
+using testing::NoPartialFiles;
+using testing::Quote;
 using testing::RunCli;
 using testing::ScratchDir;
-
-std::string Quote(const fs::path& path) { return "'" + path.string() + "'"; }
 
 std::string ReadText(const fs::path& path) {
   std::ifstream stream(path, std::ios::binary);
@@ -27,13 +27,6 @@ std::vector<std::string> Lines(const std::string& text) {
   std::stringstream stream(text);
   for (std::string line; std::getline(stream, line);) lines.push_back(line);
   return lines;
-}
-
-bool NoPartialFiles(const fs::path& dir) {
-  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-    if (entry.path().filename().string().find(".partial") != std::string::npos) return false;
-  }
-  return true;
 }
 
 TEST(CliLandmarksTest, WritesJsonCsvAndOverlayForAPortrait) {

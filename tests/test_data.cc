@@ -52,4 +52,13 @@ int RunCli(const std::string& arguments, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+std::string Quote(const fs::path& path) { return "'" + path.string() + "'"; }
+
+bool NoPartialFiles(const fs::path& dir) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".partial") != std::string::npos) return false;
+  }
+  return true;
+}
+
 }  // namespace gazedirector::testing

@@ -23,5 +23,9 @@ std::filesystem::path CliPath();
 // Runs the CLI with `arguments` (shell-quoted by the caller); returns its exit
 // code and fills `output` with stdout+stderr.
 int RunCli(const std::string& arguments, std::string* output = nullptr);
+// A path in single quotes, for RunCli's shell.
+std::string Quote(const std::filesystem::path& path);
+// True when no temporary ".partial" file is left anywhere under `dir`.
+bool NoPartialFiles(const std::filesystem::path& dir);
 
 }  // namespace gazedirector::testing

@@ -55,4 +55,21 @@ bool IsImagePath(const std::filesystem::path& path) {
          extension == ".tif" || extension == ".tiff" || extension == ".webp";
 }
 
+void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind) {
+  if (path.empty()) return;
+  if (kind == MediaKind::kImage && !IsImagePath(path)) {
+    Fail(ExitCode::kUsage, "{} {}: an image's output is an image (.png or .jpg)", option, path);
+  }
+  if (kind == MediaKind::kVideo && !HasVideoExtension(path)) {
+    Fail(ExitCode::kUsage, "{} {}: a video's output is a video (.mp4, .mkv, .gif)", option, path);
+  }
+}
+
+void WarnIfTruncated(const VideoReader& reader, const std::string& input) {
+  if (reader.EndedEarly()) {
+    spdlog::warn("{}: the video ended after {} of {} frames (truncated?)", input, reader.frame_index() + 1,
+                 reader.info().frame_count);
+  }
+}
+
 }  // namespace gazedirector::cli

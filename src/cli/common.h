@@ -8,6 +8,8 @@
 #include <CLI/CLI.hpp>
 
 #include "gazedirector/geometry/camera.h"
+#include "gazedirector/io/media.h"
+#include "gazedirector/io/video_reader.h"
 
 namespace gazedirector::cli {
 
@@ -46,5 +48,10 @@ Command RegisterRedirectCommand(CLI::App& root);
 void RequireExtension(const std::filesystem::path& path, const std::string& option,
                       const std::vector<std::string>& allowed);
 bool IsImagePath(const std::filesystem::path& path);
+// Fails with a usage error unless `path` (given as `option`) suits the input's
+// kind: an image for an image, a video for a video. Empty paths pass.
+void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind);
+// Warns when a video stopped before the frame count its container announced.
+void WarnIfTruncated(const VideoReader& reader, const std::string& input);
 
 }  // namespace gazedirector::cli

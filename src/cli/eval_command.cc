@@ -93,26 +93,43 @@ cv::Mat ConvergencePlot(const std::vector<ColumbiaFit>& fits) {
   return SideBySide({energy_plot.Draw(), error_plot.Draw()});
 }
 
-int RunColumbiaEval(const EvalOptions& options) {
-  ApplyLogLevel(options.common);
-  if (options.json) spdlog::set_level(spdlog::level::warn);
-  const std::filesystem::path dir =
-      options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
+std::filesystem::path ColumbiaDir(const EvalOptions& options) {
+  return options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
+}
+
+// The crops of the chosen subjects and head poses (all when none are
+// chosen), every `every`th of them.
+std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::filesystem::path& dir) {
+  auto chosen = [](const auto& list, const auto& value) {
+    return list.empty() || std::find(list.begin(), list.end(), value) != list.end();
+  };
   std::vector<ColumbiaCrop> crops;
   int index = 0;
   for (const ColumbiaCrop& crop : ListColumbia(dir)) {
-    const bool subject_ok = options.subjects.empty() ||
-                            std::find(options.subjects.begin(), options.subjects.end(), crop.subject) != options.subjects.end();
-    const bool pose_ok = options.poses.empty() || std::find(options.poses.begin(), options.poses.end(), crop.head_pose) != options.poses.end();
-    if (subject_ok && pose_ok && index++ % options.every == 0) crops.push_back(crop);
+    if (chosen(options.subjects, crop.subject) && chosen(options.poses, crop.head_pose) && index++ % options.every == 0) {
+      crops.push_back(crop);
+    }
   }
   if (crops.empty()) Fail(ExitCode::kBadInput, "no crops in {} match the filters", dir.string());
-  const Assets assets = Assets::Resolve(options.common.assets);
-  const auto model = EyeRegionModel::Load(assets);
+  return crops;
+}
+
+// The fitter's options for the 64x64 crops.
+FitOptions ColumbiaFitOptions(const EvalOptions& options) {
   FitOptions fit_options;
   fit_options.work_width = 128;
   if (options.iterations > 0) fit_options.max_iterations = options.iterations;
   for (const std::string& assignment : options.fit_options) SetFitOption(fit_options, assignment);
+  return fit_options;
+}
+
+int RunColumbiaEval(const EvalOptions& options) {
+  ApplyLogLevel(options.common);
+  if (options.json) spdlog::set_level(spdlog::level::warn);
+  const std::filesystem::path dir = ColumbiaDir(options);
+  const std::vector<ColumbiaCrop> crops = SelectCrops(options, dir);
+  const auto model = EyeRegionModel::Load(Assets::Resolve(options.common.assets));
+  const FitOptions fit_options = ColumbiaFitOptions(options);
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;
   const std::vector<ColumbiaFit> fits = FitColumbia(crops, model, fit_options, options.threads, options.known_head_pose,
@@ -184,21 +201,10 @@ cv::Mat ErrorCdfPlot(const std::vector<RedirectColumbiaCase>& cases) {
 int RunRedirectColumbiaEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   if (options.json) spdlog::set_level(spdlog::level::warn);
-  const std::filesystem::path dir =
-      options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
-  std::vector<ColumbiaCrop> crops;
-  for (const ColumbiaCrop& crop : ListColumbia(dir)) {
-    if (options.subjects.empty() ||
-        std::find(options.subjects.begin(), options.subjects.end(), crop.subject) != options.subjects.end()) {
-      crops.push_back(crop);
-    }
-  }
-  const Assets assets = Assets::Resolve(options.common.assets);
-  const auto model = EyeRegionModel::Load(assets);
-  FitOptions fit_options;
-  fit_options.work_width = 128;
-  if (options.iterations > 0) fit_options.max_iterations = options.iterations;
-  for (const std::string& assignment : options.fit_options) SetFitOption(fit_options, assignment);
+  const std::filesystem::path dir = ColumbiaDir(options);
+  const std::vector<ColumbiaCrop> crops = SelectCrops(options, dir);
+  const auto model = EyeRegionModel::Load(Assets::Resolve(options.common.assets));
+  const FitOptions fit_options = ColumbiaFitOptions(options);
   std::unique_ptr<Progress> progress;
   const std::filesystem::path out_dir(options.out_dir);
   Timer timer;

@@ -28,14 +28,4 @@ GazeTracker FittingSetup::MakeTracker() const {
   return GazeTracker(model, landmarks, mean_face, tracker_options, nullptr, largest);
 }
 
-void RequireOverlayKind(const std::string& overlay, MediaKind kind) {
-  if (overlay.empty()) return;
-  if (kind == MediaKind::kImage && !IsImagePath(overlay)) {
-    Fail(ExitCode::kUsage, "--overlay {}: an image's overlay is an image (.png or .jpg)", overlay);
-  }
-  if (kind == MediaKind::kVideo && !HasVideoExtension(overlay)) {
-    Fail(ExitCode::kUsage, "--overlay {}: a video's overlay is a video (.mp4, .mkv, .gif)", overlay);
-  }
-}
-
 }  // namespace gazedirector::cli

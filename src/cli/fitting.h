@@ -10,7 +10,6 @@
 #include "gazedirector/face/landmark_detector.h"
 #include "gazedirector/face/mean_face.h"
 #include "gazedirector/model/eye_region_model.h"
-#include "gazedirector/io/media.h"
 #include "gazedirector/video/gaze_tracker.h"
 
 namespace gazedirector::cli {
@@ -33,8 +32,5 @@ struct FittingSetup {
   static FittingSetup Create(const CommonOptions& common, const FittingOptions& options);
   GazeTracker MakeTracker() const;
 };
-
-// Fails with a usage error unless an overlay path suits the input's kind.
-void RequireOverlayKind(const std::string& overlay, MediaKind kind);
 
 }  // namespace gazedirector::cli

@@ -104,10 +104,7 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
     progress.Update(reader.frame_index() + 1);
   }
   progress.Finish();
-  if (reader.EndedEarly()) {
-    spdlog::warn("{}: the video ended after {} of {} frames (truncated?)", options.input, reader.frame_index() + 1,
-                 info.frame_count);
-  }
+  WarnIfTruncated(reader, options.input);
   json.Finish();
   if (csv) csv->Finish();
   if (overlay) overlay->Finish();
@@ -126,14 +123,7 @@ int RunLandmarks(const LandmarksOptions& options) {
   const MediaKind kind = DetectMediaKind(options.input);
   RequireExtension(options.output, "-o", {".json", ".jsonl"});
   if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
-  if (!options.overlay.empty()) {
-    if (kind == MediaKind::kImage && !IsImagePath(options.overlay)) {
-      Fail(ExitCode::kUsage, "--overlay {}: an image's overlay is an image (.png or .jpg)", options.overlay);
-    }
-    if (kind == MediaKind::kVideo && !HasVideoExtension(options.overlay)) {
-      Fail(ExitCode::kUsage, "--overlay {}: a video's overlay is a video (.mp4, .mkv, .gif)", options.overlay);
-    }
-  }
+  RequireOutputKind(options.overlay, "--overlay", kind);
   const Assets assets = Assets::Resolve(options.common.assets);
   FaceTrackerOptions tracker_options;
   tracker_options.largest_only = options.largest;

@@ -305,7 +305,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
     progress.Update(index + 1);
   }
   progress.Finish();
-  if (reader.EndedEarly()) spdlog::warn("{}: the video ended early (truncated?)", options.input);
+  WarnIfTruncated(reader, options.input);
   writer.Finish();
   spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits left untouched) -> {}", options.input,
                redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, options.output);
@@ -315,12 +315,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
 int RunRedirect(const RedirectCommandOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
-  if (kind == MediaKind::kImage && !IsImagePath(options.output)) {
-    Fail(ExitCode::kUsage, "-o {}: an image's output is an image (.png or .jpg)", options.output);
-  }
-  if (kind == MediaKind::kVideo && !HasVideoExtension(options.output)) {
-    Fail(ExitCode::kUsage, "-o {}: a video's output is a video (.mp4, .mkv, .gif)", options.output);
-  }
+  RequireOutputKind(options.output, "-o", kind);
   if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
     Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
   }

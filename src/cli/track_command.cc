@@ -141,10 +141,7 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
     progress.Update(index + 1);
   }
   progress.Finish();
-  if (reader.EndedEarly()) {
-    spdlog::warn("{}: the video ended after {} of {} frames (truncated?)", options.input, reader.frame_index() + 1,
-                 info.frame_count);
-  }
+  WarnIfTruncated(reader, options.input);
   json.Finish();
   if (csv) csv->Finish();
   if (overlay) overlay->Finish();
@@ -167,7 +164,7 @@ int RunTrack(const TrackOptions& options) {
   if (!options.eye_patch.empty() && kind != MediaKind::kImage) {
     Fail(ExitCode::kUsage, "--eye-patch takes an image of one eye, not a video");
   }
-  RequireOverlayKind(options.overlay, kind);
+  RequireOutputKind(options.overlay, "--overlay", kind);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup);
   return kind == MediaKind::kImage ? RunOnImage(options, setup) : RunOnVideo(options, setup);

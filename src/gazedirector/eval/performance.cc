@@ -75,28 +75,30 @@ TrackedClip LoadTrackedClip(const std::filesystem::path& video, FaceTracker& tra
 
 namespace {
 
-// The tracker's warm fitter options, with the settled blocks held.
-FitOptions SettledWarmOptions() {
-  FitOptions options = GazeTrackerOptions::Defaults().warm;
-  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kInterocular}) {
-    for (int i = 0; i < LayoutOf(block).size; ++i) options.free[LayoutOf(block).offset + i] = false;
+// Fits every frame of `clip` as the video tracker does: the first fresh, the
+// rest warm-started with the settled parameters held. `warm_seconds` gets
+// the time of the warm fits.
+std::vector<Parameters> FitClip(std::shared_ptr<const EyeRegionModel> model, const TrackedClip& clip,
+                                double* warm_seconds = nullptr) {
+  auto pool = std::make_shared<ThreadPool>();
+  Fitter fresh(model, FitOptions{}, pool);
+  Fitter warm(model, GazeTrackerOptions::Defaults().SettledWarm(), pool);
+  std::vector<Parameters> fits = {fresh.FitFace(clip.frames[0], clip.camera, clip.faces[0]).phi};
+  Timer timer;
+  for (std::size_t i = 1; i < clip.frames.size(); ++i) {
+    fits.push_back(warm.FitFace(clip.frames[i], clip.camera, clip.faces[i], &fits.back()).phi);
   }
-  return options;
+  if (warm_seconds != nullptr) *warm_seconds = timer.Seconds();
+  return fits;
 }
 
 }  // namespace
 
 double MeasureFitFps(std::shared_ptr<const EyeRegionModel> model, const TrackedClip& clip) {
   if (clip.frames.size() < 2) return 0;
-  auto pool = std::make_shared<ThreadPool>();
-  Fitter fresh(model, FitOptions{}, pool);
-  Fitter warm(model, SettledWarmOptions(), pool);
-  Parameters phi = fresh.FitFace(clip.frames[0], clip.camera, clip.faces[0]).phi;
-  Timer timer;
-  for (std::size_t i = 1; i < clip.frames.size(); ++i) {
-    phi = warm.FitFace(clip.frames[i], clip.camera, clip.faces[i], &phi).phi;
-  }
-  return (clip.frames.size() - 1) / timer.Seconds();
+  double seconds = 0;
+  FitClip(model, clip, &seconds);
+  return (clip.frames.size() - 1) / seconds;
 }
 
 double MeasureTrackFps(std::shared_ptr<const EyeRegionModel> model, std::shared_ptr<const LandmarkDetector> landmarks,
@@ -116,17 +118,9 @@ double MeasureTrackFps(std::shared_ptr<const EyeRegionModel> model, std::shared_
 
 double MeasureRedirectFps(std::shared_ptr<const EyeRegionModel> model, const TrackedClip& clip) {
   if (clip.frames.empty()) return 0;
-  auto pool = std::make_shared<ThreadPool>();
-  Fitter fresh(model, FitOptions{}, pool);
-  Fitter warm(model, SettledWarmOptions(), pool);
-  std::vector<Parameters> fits;
-  for (std::size_t i = 0; i < clip.frames.size(); ++i) {
-    fits.push_back(i == 0 ? fresh.FitFace(clip.frames[i], clip.camera, clip.faces[i]).phi
-                          : warm.FitFace(clip.frames[i], clip.camera, clip.faces[i], &fits.back()).phi);
-  }
+  const std::vector<Parameters> fits = FitClip(model, clip);
   Redirector redirector(model);
   cv::Mat frame;
-  redirector.options().environment = 0;
   clip.frames[0].copyTo(frame);
   redirector.options().environment = redirector.Redirect(frame, clip.camera, fits[0], Retarget(fits[0], GazeTarget::Camera())).environment;
   Timer timer;

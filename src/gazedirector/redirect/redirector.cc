@@ -76,33 +76,22 @@ cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
 Redirector::Redirector(std::shared_ptr<const EyeRegionModel> model, RedirectOptions options)
     : model_(model), options_(options), fitted_renderer_(model), target_renderer_(model) {}
 
-std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& camera, std::string& note) {
-  if (fitted.eyelid_closure() > options_.max_closure_deg) {
-    note = fmt::format("eyes closed (lid closure {:.0f} deg)", fitted.eyelid_closure());
-    return {false, false};
-  }
-  // How much eyeball shows, against the same eyes with their lids at rest.
+std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note) {
+  // How much eyeball the fit (in fitted_buffers_) shows, against the same
+  // eyes with their lids at rest.
   Parameters rested = fitted;
   rested.eyelid_closure() = 0;
   rested.eyelid_pitch() = fitted.gaze_pitch();
-  fitted_renderer_.set_eyes(true, true);
-  fitted_renderer_.Pose(rested);
-  const cv::Rect region = ModelBounds(fitted_renderer_.posed(), camera);
-  if (region.width < 8 || region.height < 4) {
-    note = "the eyes are outside the image";
-    return {false, false};
-  }
-  const Camera crop = camera.Cropped(region.x, region.y, region.width, region.height);
-  fitted_renderer_.Render(rested, crop, target_buffers_);
-  const std::array<int, 2> rest = {CountPart(target_buffers_, kLeftEyeball), CountPart(target_buffers_, kRightEyeball)};
-  fitted_renderer_.Render(fitted, crop, target_buffers_);
+  target_renderer_.set_eyes(true, true);
+  target_renderer_.Render(rested, crop, target_buffers_);
   std::array<bool, 2> open = {true, true};
   for (int eye = 0; eye < 2; ++eye) {
-    const int shown = CountPart(target_buffers_, EyeballPart(eye));
-    if (rest[eye] < 6 || shown < options_.min_open_fraction * rest[eye]) {
+    const int rest = CountPart(target_buffers_, EyeballPart(eye));
+    const int shown = CountPart(fitted_buffers_, EyeballPart(eye));
+    if (rest < 6 || shown < options_.min_open_fraction * rest) {
       open[eye] = false;
       note += fmt::format("{}{} eye closed or hidden ({:.0f}% of its eyeball shows)", note.empty() ? "" : "; ",
-                          eye == kLeftEye ? "left" : "right", rest[eye] ? 100.0 * shown / rest[eye] : 0.0);
+                          eye == kLeftEye ? "left" : "right", rest ? 100.0 * shown / rest : 0.0);
     }
   }
   return open;
@@ -129,7 +118,11 @@ void Redirector::Reflections(const Renderer& renderer, const RenderBuffers& buff
   }
 }
 
-int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, double& gain) {
+int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, int fixed, double& gain,
+                                  cv::Mat& specular) {
+  const auto& maps = BuiltInEnvironmentMaps();
+  const int first = fixed >= 0 ? fixed : 0, last = fixed >= 0 ? fixed : static_cast<int>(maps.size()) - 1;
+  gain = 0;
   // Bright residuals of the photo over the fitted eyeballs: the highlights
   // the diffuse model cannot explain.
   std::vector<int> pixels;
@@ -141,25 +134,26 @@ int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, do
     pixels.push_back(pixel);
     residual.push_back(std::max(0.0f, Luminance(observed) - Luminance(RenderedBgr(fitted_buffers_, i))));
   }
-  gain = 0;
-  if (pixels.size() < 10) return 0;
+  if (pixels.size() < 10) return first;
   double baseline = 0;
   for (float r : residual) baseline += r * r;
-  int best = 0;
+  int best = first;
   double best_error = baseline;
-  cv::Mat specular;
-  const auto& maps = BuiltInEnvironmentMaps();
-  for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
-    Reflections(fitted_renderer_, fitted_buffers_, camera, maps[k], specular);
+  cv::Mat candidate;
+  for (int k = first; k <= last; ++k) {
+    Reflections(fitted_renderer_, fitted_buffers_, camera, maps[k], candidate);
     double hh = 0, hr = 0;
     for (std::size_t i = 0; i < pixels.size(); ++i) {
-      const float h = Luminance(specular.at<cv::Vec3f>(pixels[i] / photo.cols, pixels[i] % photo.cols));
+      const float h = Luminance(candidate.at<cv::Vec3f>(pixels[i] / photo.cols, pixels[i] % photo.cols));
       hh += h * h, hr += h * residual[i];
     }
     if (hh <= 0) continue;
     const double a = std::clamp(hr / hh, 0.0, 3.0);
     const double error = baseline - 2 * a * hr + a * a * hh;
-    if (error < best_error) best_error = error, best = k, gain = a;
+    if (error < best_error) {
+      best_error = error, best = k, gain = a;
+      std::swap(specular, candidate);
+    }
   }
   // Reflections that explain too little are not worth adding.
   if (best_error > 0.97 * baseline) gain = 0;
@@ -169,26 +163,35 @@ int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, do
 RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const Parameters& fitted,
                                     const Parameters& target, RedirectLayers* layers) {
   RedirectReport report;
-  const std::array<bool, 2> eyes = OpenEyes(fitted, camera, report.note);
-  if (!eyes[0] && !eyes[1]) return report;
+  if (fitted.eyelid_closure() > options_.max_closure_deg) {
+    report.note = fmt::format("eyes closed (lid closure {:.0f} deg)", fitted.eyelid_closure());
+    return report;
+  }
   Parameters posed_target = target;
   if (!options_.warp_eyelids) {
     posed_target.eyelid_pitch() = fitted.eyelid_pitch();
     posed_target.eyelid_closure() = fitted.eyelid_closure();
   }
-  fitted_renderer_.set_eyes(eyes[0], eyes[1]);
-  target_renderer_.set_eyes(eyes[0], eyes[1]);
+  fitted_renderer_.set_eyes(true, true);
   fitted_renderer_.Pose(fitted);
   target_renderer_.Pose(posed_target);
-  const cv::Rect image_rect(0, 0, image.cols, image.rows);
-  const cv::Rect region = (ModelBounds(fitted_renderer_.posed(), camera, 0.02, eyes) |
-                           ModelBounds(target_renderer_.posed(), camera, 0.02, eyes)) & image_rect;
+  const cv::Rect region = (ModelBounds(fitted_renderer_.posed(), camera, 0.02) |
+                           ModelBounds(target_renderer_.posed(), camera, 0.02)) & cv::Rect(0, 0, image.cols, image.rows);
   if (region.width < 8 || region.height < 4) {
     report.note = "the eyes are outside the image";
     return report;
   }
   const Camera crop_camera = camera.Cropped(region.x, region.y, region.width, region.height);
-  fitted_renderer_.Render(fitted, crop_camera, fitted_buffers_);
+  fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
+  fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
+  const std::array<bool, 2> eyes = OpenEyes(fitted, crop_camera, report.note);
+  if (!eyes[0] && !eyes[1]) return report;
+  if (!eyes[0] || !eyes[1]) {  // only the open eye's parts from here on
+    fitted_renderer_.set_eyes(eyes[0], eyes[1]);
+    fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
+    fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
+  }
+  target_renderer_.set_eyes(eyes[0], eyes[1]);
   target_renderer_.Render(posed_target, crop_camera, target_buffers_);
   cv::Mat photo;
   image(region).convertTo(photo, CV_32FC3, 1.0 / 255);
@@ -218,24 +221,16 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
 
   // Reflections: the environment that explains the photo's highlights.
   const auto& maps = BuiltInEnvironmentMaps();
+  const bool fixed = options_.environment >= 0 && options_.environment < static_cast<int>(maps.size());
   double gain = 0;
-  int environment = options_.environment;
+  int environment = fixed ? options_.environment : -1;
+  cv::Mat old_specular, new_specular;
   if (options_.specular) {
-    if (environment < 0 || environment >= static_cast<int>(maps.size())) {
-      environment = ChooseEnvironment(photo, crop_camera, gain);
-    } else {
-      double unused = 0;
-      ChooseEnvironment(photo, crop_camera, unused);
-      gain = unused;
-    }
+    environment = ChooseEnvironment(photo, crop_camera, fixed ? options_.environment : -1, gain, old_specular);
   }
   report.environment = environment;
   report.specular_gain = gain;
-  cv::Mat old_specular, new_specular;
-  if (gain > 0) {
-    Reflections(fitted_renderer_, fitted_buffers_, crop_camera, maps[environment], old_specular);
-    Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
-  }
+  if (gain > 0) Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
 
   // The new eyeballs: the photo's own eye surface where the fitted eyeball
   // showed it (away from its old highlights), the rendering elsewhere.

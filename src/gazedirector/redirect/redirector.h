@@ -65,10 +65,13 @@ class Redirector {
   RedirectOptions& options() { return options_; }
 
  private:
-  std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& camera, std::string& note);
-  // The environment map (and its gain) whose reflections on the fitted
-  // eyeballs best explain the bright residuals of the photo.
-  int ChooseEnvironment(const cv::Mat& photo, const Camera& camera, double& gain);
+  // The eyes of `fitted` (rendered in fitted_buffers_ over `crop`) open
+  // enough to redirect; the others are named in `note`.
+  std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note);
+  // The environment map (`fixed`, or the best of all when -1) and its gain
+  // whose reflections on the fitted eyeballs best explain the bright
+  // residuals of the photo; `specular` gets those reflections (when gain > 0).
+  int ChooseEnvironment(const cv::Mat& photo, const Camera& camera, int fixed, double& gain, cv::Mat& specular);
   // Specular radiance (RGB, before the gain) of every eyeball pixel of
   // `buffers`, rendered by `renderer`; zero elsewhere.
   void Reflections(const Renderer& renderer, const RenderBuffers& buffers, const Camera& camera,

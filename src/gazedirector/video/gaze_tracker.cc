@@ -14,6 +14,14 @@ GazeTrackerOptions GazeTrackerOptions::Defaults() {
   return options;
 }
 
+FitOptions GazeTrackerOptions::SettledWarm() const {
+  FitOptions settled = warm;
+  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kInterocular}) {
+    for (int i = 0; i < LayoutOf(block).size; ++i) settled.free[LayoutOf(block).offset + i] = false;
+  }
+  return settled;
+}
+
 GazeTracker::GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::shared_ptr<const LandmarkDetector> landmarks,
                          MeanFace mean_face, GazeTrackerOptions options, std::shared_ptr<ThreadPool> pool,
                          bool largest_only)
@@ -55,13 +63,7 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
   result.face = face;
   if (history != nullptr && history->fits > 0) {
     // Warm start; settled parameters held.
-    FitOptions& warm = warm_.options();
-    warm.free = options_.warm.free;
-    if (history->fits >= options_.settle_frames) {
-      for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kInterocular}) {
-        for (int i = 0; i < LayoutOf(block).size; ++i) warm.free[LayoutOf(block).offset + i] = false;
-      }
-    }
+    warm_.options().free = history->fits >= options_.settle_frames ? options_.SettledWarm().free : options_.warm.free;
     result.fit = warm_.FitFace(image, camera, face, &history->phi);
     result.warm = true;
     const bool degraded = !result.fit.good || (history->typical_energy > 0 &&

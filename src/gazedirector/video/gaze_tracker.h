@@ -25,6 +25,8 @@ struct GazeTrackerOptions {
   // energy is redone from the landmarks (the fit lost the eyes).
   double refit_ratio = 1.8;
   static GazeTrackerOptions Defaults();
+  // The warm options with the settled parameters held.
+  FitOptions SettledWarm() const;
 };
 
 // Finds faces and fits the eye-region model to each, in stills and videos.

@@ -16,7 +16,8 @@ void DrawFit(cv::Mat& image, const Camera& camera, const Parameters& phi, bool g
   const Camera crop = camera.Cropped(region.x, region.y, region.width, region.height);
   RenderBuffers buffers;
   renderer.set_eyes(eyes[0], eyes[1]);
-  renderer.Render(phi, crop, buffers);
+  renderer.Rasterize(crop, buffers);  // posed above
+  renderer.Shade(phi, crop, buffers);
   renderer.set_eyes(true, true);
 
   cv::Mat patch = image(region);
