@@ -53,6 +53,26 @@ TEST(CliGazeTest, TrackWritesFitsGazeCsvAndOverlayForAPortrait) {
   EXPECT_EQ(ReadImage(dir / "overlay.png").size(), ReadImage(DataPath("images/d30.jpg")).size());
 }
 
+TEST(CliGazeTest, TrackAnEyePatchWritesOnlyWhatWasFitted) {
+  const fs::path dir = ScratchDir("cli_track_eye_patch");
+  std::string output;
+  // The subject looks 15 degrees toward the image right (Columbia's H), level.
+  ASSERT_EQ(RunCli("track " + Quote(DataPath("columbia-eyes/0002_2m_0P_0V_15H_L.jpg")) + " --eye-patch right -o " +
+                       Quote(dir / "fit.json"),
+                   &output),
+            0)
+      << output;
+  std::ifstream stream(dir / "fit.json");
+  const nlohmann::json fit = nlohmann::json::parse(stream);
+  const nlohmann::json& face = fit["faces"][0];
+  // No face was detected, so no landmarks, box or head pose are invented.
+  EXPECT_FALSE(face.contains("landmarks"));
+  EXPECT_FALSE(face.contains("head_pose"));
+  EXPECT_TRUE(face["eyes"].contains("right"));
+  EXPECT_FALSE(face["eyes"].contains("left"));
+  EXPECT_GT(face["eyes"]["right"]["yaw_deg"].get<double>(), 5.0);
+}
+
 TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
   const fs::path dir = ScratchDir("cli_redirect_image");
   std::string output;

@@ -11,6 +11,7 @@
 #include "cli/common.h"
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/eval/redirect_columbia.h"
+#include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/fit/fit_options.h"
 #include "gazedirector/eval/landmark_accuracy.h"
 #include "gazedirector/io/image_io.h"
@@ -41,6 +42,7 @@ struct EvalOptions {
   std::vector<std::string> fit_options;
   bool known_head_pose = false;
   std::string out_dir;
+  double eyelid_follow = kEyelidFollow;
   std::string cdf_plot = "eval_redirect_columbia.png";
 };
 
@@ -146,12 +148,15 @@ int RunColumbiaEval(const EvalOptions& options) {
   if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
   if (!options.csv.empty()) {
     CsvWriter csv(options.csv, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "pitch", "yaw",
-                                "pitch_error", "yaw_error", "seconds"});
+                                "pitch_error", "yaw_error", "head_pitch", "head_yaw", "camera_pitch", "camera_yaw",
+                                "seconds"});
     for (const ColumbiaFit& fit : fits) {
       csv.AddRow({fit.crop.path.filename().string(), fit.crop.subject, std::to_string(fit.crop.head_pose),
                   std::to_string(fit.crop.vertical), std::to_string(fit.crop.horizontal), std::string(1, fit.crop.eye),
                   fmt::format("{:.3f}", fit.pitch), fmt::format("{:.3f}", fit.yaw), fmt::format("{:.3f}", fit.pitch_error),
-                  fmt::format("{:.3f}", fit.yaw_error), fmt::format("{:.3f}", fit.seconds)});
+                  fmt::format("{:.3f}", fit.yaw_error), fmt::format("{:.3f}", fit.head_pitch),
+                  fmt::format("{:.3f}", fit.head_yaw), fmt::format("{:.3f}", fit.camera_pitch),
+                  fmt::format("{:.3f}", fit.camera_yaw), fmt::format("{:.3f}", fit.seconds)});
     }
     csv.Finish();
   }
@@ -198,6 +203,18 @@ cv::Mat ErrorCdfPlot(const std::vector<RedirectColumbiaCase>& cases) {
   return plot.Draw();
 }
 
+void WriteRedirectCases(const std::string& path, const std::vector<RedirectColumbiaCase>& cases) {
+  CsvWriter csv(path, {"file", "subject", "eye", "label_pitch", "label_yaw", "fit_good", "error_none", "error_eyeballs",
+                       "error_full"});
+  for (const RedirectColumbiaCase& c : cases) {
+    csv.AddRow({c.target.path.filename().string(), c.target.subject, std::string(1, c.target.eye),
+                std::to_string(c.target.vertical), std::to_string(c.target.horizontal), c.fit_good ? "1" : "0",
+                fmt::format("{:.3f}", c.error_none), fmt::format("{:.3f}", c.error_eyeballs),
+                fmt::format("{:.3f}", c.error_full)});
+  }
+  csv.Finish();
+}
+
 int RunRedirectColumbiaEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   if (options.json) spdlog::set_level(spdlog::level::warn);
@@ -209,7 +226,7 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
   const std::filesystem::path out_dir(options.out_dir);
   Timer timer;
   const std::vector<RedirectColumbiaCase> cases = EvaluateRedirectColumbia(
-      crops, model, fit_options,
+      crops, model, fit_options, options.eyelid_follow,
       [&](const RedirectColumbiaCase& c, const cv::Mat& image) {
         if (!options.out_dir.empty()) WriteImage(out_dir / c.target.path.filename(), image);
       },
@@ -227,9 +244,25 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
     eyeballs_beat_none += c.error_eyeballs < c.error_none;
   }
   if (!options.cdf_plot.empty()) WriteImage(options.cdf_plot, ErrorCdfPlot(cases));
+  if (!options.csv.empty()) WriteRedirectCases(options.csv, cases);
+  // By the target's elevation: pitch changes move the lids, yaw changes do not.
+  std::map<int, std::array<std::vector<double>, 3>> by_vertical;
+  for (const RedirectColumbiaCase& c : cases) {
+    auto& errors = by_vertical[c.target.vertical];
+    errors[0].push_back(c.error_none), errors[1].push_back(c.error_eyeballs), errors[2].push_back(c.error_full);
+  }
   const double seconds = timer.Seconds();
   if (options.json) {
+    nlohmann::json vertical;
+    for (const auto& [v, errors] : by_vertical) {
+      vertical[std::to_string(v)] = {{"crops", errors[0].size()},
+                                     {"error_none", RoundTo(Mean(errors[0]), 3)},
+                                     {"error_eyeballs", RoundTo(Mean(errors[1]), 3)},
+                                     {"error_full", RoundTo(Mean(errors[2]), 3)}};
+    }
     fmt::print("{}\n", nlohmann::json{{"crops", cases.size()},
+                                      {"eyelid_follow", options.eyelid_follow},
+                                      {"by_vertical", vertical},
                                       {"error_none", RoundTo(Mean(none), 3)},
                                       {"error_eyeballs", RoundTo(Mean(eyeballs), 3)},
                                       {"error_full", RoundTo(Mean(full), 3)},
@@ -250,6 +283,12 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
   fmt::print("  (c) eyeballs and eyelids                {:>7.2f} {:>8.2f}\n", Mean(full), Median(full));
   fmt::print("(b) better than (a) on {:.0f}% of crops, (c) better than (b) on {:.0f}%\n", 100.0 * eyeballs_beat_none / cases.size(),
              100.0 * full_beats_eyeballs / cases.size());
+  fmt::print("by target elevation V     crops     (a)     (b)     (c)\n");
+  for (const auto& [v, errors] : by_vertical) {
+    fmt::print("  {:>+4d}                  {:>6} {:>7.2f} {:>7.2f} {:>7.2f}\n", v, errors[0].size(), Mean(errors[0]),
+               Mean(errors[1]), Mean(errors[2]));
+  }
+  fmt::print("eyelids follow {:.2f} of each change of pitch\n", options.eyelid_follow);
   if (!options.cdf_plot.empty()) fmt::print("error curves: {}\n", options.cdf_plot);
   if (!options.out_dir.empty()) fmt::print("redirected crops (c): {}\n", options.out_dir);
   return 0;
@@ -320,6 +359,10 @@ Command RegisterEvalCommand(CLI::App& root) {
   redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c) under the name of the real crop it imitates");
   redirect->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
   redirect->add_option("--fit", options->fit_options, "Fitter options as name=value");
+  redirect->add_option("--csv", options->csv, "Write every crop's three errors here");
+  redirect->add_option("--eyelid-follow", options->eyelid_follow, "How far the eyelids follow a change of pitch (0: not at all, 1: fully)")
+      ->check(CLI::Range(0.0, 1.5))
+      ->capture_default_str();
   AddCommonOptions(*redirect, options->common);
   return {app, [options, landmarks, columbia, redirect] {
             if (landmarks->parsed()) return RunLandmarkEval(*options);

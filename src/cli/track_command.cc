@@ -67,6 +67,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   FaceFit fit;
   fit.fit = fitter.FitEyePatch(crop, eye);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};
+  fit.has_face = false;
   const Camera camera = Fitter::EyePatchCamera(crop.size());
   WriteRecords(options, FrameRecord(0, 0, {fit}, &camera), {fit}, inputs);
   if (!options.overlay.empty()) {

@@ -9,6 +9,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "gazedirector/fit/face_fit.h"
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
@@ -80,6 +81,12 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         fit.seconds = timer.Seconds();
         fit.pitch = result.phi.gaze_pitch();
         fit.yaw = EyeRegionModel::EyeYaw(result.phi, crop.ModelEye());
+        fit.head_pitch = result.phi.rotation_deg().x();
+        fit.head_yaw = result.phi.rotation_deg().y();
+        const EyeGaze eye_gaze = EyeGazes(result.phi)[crop.ModelEye()];
+        const Eigen::Vector2d angles = GazeAngles(eye_gaze.gaze) - GazeAngles(-eye_gaze.centre);
+        fit.camera_pitch = -RadToDeg(angles.y());
+        fit.camera_yaw = RadToDeg(angles.x());
         fit.pitch_error = std::abs(fit.pitch - crop.vertical);
         fit.yaw_error = std::abs(fit.yaw - crop.horizontal);
         for (const FitIteration& iterate : result.history) {

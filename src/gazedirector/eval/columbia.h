@@ -32,6 +32,10 @@ struct ColumbiaFit {
   ColumbiaCrop crop;
   double pitch = 0, yaw = 0;
   double pitch_error = 0, yaw_error = 0;  // absolute, degrees
+  double head_pitch = 0, head_yaw = 0;    // the eye region's fitted rotation, degrees
+  // The gaze in the camera's frame, relative to the line from the eye to
+  // the camera (degrees; up +, toward image right +).
+  double camera_pitch = 0, camera_yaw = 0;
   double seconds = 0;
   // Per Gauss-Newton iterate (0: the start): photometric energy and gaze
   // error (degrees, the angle between estimated and labelled directions).

@@ -26,8 +26,10 @@ struct RedirectColumbiaCase {
 // Runs the paper's redirection evaluation on the crops of `dir` at head pose
 // 0 (subjects limited to `subjects` when not empty). `on_output` receives
 // each fully redirected crop (condition c); `progress` the number done.
+// The eyelids follow `eyelid_follow` of each change of pitch (see Retarget).
 std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
     const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model, const FitOptions& fit_options,
+    double eyelid_follow,
     const std::function<void(const RedirectColumbiaCase&, const cv::Mat&)>& on_output = nullptr,
     const std::function<void(int done, int total)>& progress = nullptr);
 

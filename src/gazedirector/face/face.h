@@ -12,6 +12,12 @@ inline constexpr int kNumLandmarks = 68;
 // right eye, on the image left; 42-47: the left eye).
 using Landmarks68 = std::array<Eigen::Vector2d, kNumLandmarks>;
 
+inline Landmarks68 ZeroLandmarks() {
+  Landmarks68 landmarks;
+  landmarks.fill(Eigen::Vector2d::Zero());  // Eigen leaves value-initialised vectors undefined
+  return landmarks;
+}
+
 // The head frame: origin at the mean face's origin (inside the head), x toward
 // the subject's left (image right for a frontal face), y down, z into the head,
 // millimetres. `rotation` and `translation` map head points to the camera:
@@ -26,7 +32,7 @@ struct Face {
   int id = 0;
   cv::Rect2d box;           // the face box the landmark predictor was given
   double confidence = 0;    // in [0, 1]; >= 0.5 when the detector sees a face there
-  Landmarks68 landmarks{};
+  Landmarks68 landmarks = ZeroLandmarks();
   HeadPose pose;
 
   double InterocularDistance() const { return (landmarks[45] - landmarks[36]).norm(); }

@@ -17,6 +17,8 @@ struct FaceFit {
   bool warm = false;  // started from the previous frame's fit
   // Which eyes were fitted: both for a face, one for an eye patch.
   std::array<bool, 2> eyes = {true, true};
+  // False for an eye patch, fitted from the crop's framing: `face` is empty.
+  bool has_face = true;
 };
 
 // One eye's gaze in camera coordinates (millimetres; the gaze is the unit

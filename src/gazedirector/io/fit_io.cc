@@ -37,7 +37,7 @@ Eigen::Vector3d MeanGaze(const std::array<EyeGaze, 2>& gazes, const std::array<b
 }  // namespace
 
 nlohmann::json ToJson(const FaceFit& fit) {
-  nlohmann::json record = ToJson(fit.face);
+  nlohmann::json record = fit.has_face ? ToJson(fit.face) : nlohmann::json{{"face_id", fit.face.id}};
   const EnergyTerms& terms = fit.fit.terms;
   record["fit"] = {{"energy", RoundTo(terms.total(), 6)},
                    {"image_energy", RoundTo(terms.image, 6)},

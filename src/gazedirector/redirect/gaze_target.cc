@@ -101,7 +101,7 @@ GazeTarget GazeTarget::FromJson(const nlohmann::json& json) {
   Fail(ExitCode::kBadInput, "a gaze target needs one of camera, look_at, gaze, offset");
 }
 
-Parameters Retarget(const Parameters& phi, const GazeTarget& target) {
+Parameters Retarget(const Parameters& phi, const GazeTarget& target, double eyelid_follow) {
   Parameters out = phi;
   const Eigen::Matrix3d rotation = phi.rotation();
   switch (target.kind) {
@@ -132,7 +132,7 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target) {
   out.gaze_pitch() = std::clamp(out.gaze_pitch(), -kMaxPitch, kMaxPitch);
   out.gaze_yaw() = std::clamp(out.gaze_yaw(), -kMaxYaw, kMaxYaw);
   out.vergence() = std::clamp(out.vergence(), -2.0, kMaxVergence);
-  out.eyelid_pitch() = phi.eyelid_pitch() + (out.gaze_pitch() - phi.gaze_pitch());
+  out.eyelid_pitch() = phi.eyelid_pitch() + eyelid_follow * (out.gaze_pitch() - phi.gaze_pitch());
   return out;
 }
 
