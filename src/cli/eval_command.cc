@@ -125,13 +125,27 @@ FitOptions ColumbiaFitOptions(const EvalOptions& options) {
   return fit_options;
 }
 
-int RunColumbiaEval(const EvalOptions& options) {
+// What both Columbia evaluations start from.
+struct ColumbiaRun {
+  std::filesystem::path dir;
+  std::vector<ColumbiaCrop> crops;
+  std::shared_ptr<const EyeRegionModel> model;
+  FitOptions fit_options;
+};
+
+ColumbiaRun PrepareColumbiaRun(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   if (options.json) spdlog::set_level(spdlog::level::warn);
-  const std::filesystem::path dir = ColumbiaDir(options);
-  const std::vector<ColumbiaCrop> crops = SelectCrops(options, dir);
-  const auto model = EyeRegionModel::Load(Assets::Resolve(options.common.assets));
-  const FitOptions fit_options = ColumbiaFitOptions(options);
+  ColumbiaRun run;
+  run.dir = ColumbiaDir(options);
+  run.crops = SelectCrops(options, run.dir);
+  run.model = EyeRegionModel::Load(Assets::Resolve(options.common.assets));
+  run.fit_options = ColumbiaFitOptions(options);
+  return run;
+}
+
+int RunColumbiaEval(const EvalOptions& options) {
+  const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;
   const std::vector<ColumbiaFit> fits = FitColumbia(crops, model, fit_options, options.threads, options.known_head_pose,
@@ -203,6 +217,30 @@ cv::Mat ErrorCdfPlot(const std::vector<RedirectColumbiaCase>& cases) {
   return plot.Draw();
 }
 
+// The three conditions' errors over a set of redirected crops.
+struct ConditionErrors {
+  std::vector<double> none, eyeballs, full;
+  int eyeballs_beat_none = 0, full_beats_eyeballs = 0;
+
+  void Add(const RedirectColumbiaCase& c) {
+    none.push_back(c.error_none), eyeballs.push_back(c.error_eyeballs), full.push_back(c.error_full);
+    eyeballs_beat_none += c.error_eyeballs < c.error_none;
+    full_beats_eyeballs += c.error_full < c.error_eyeballs;
+  }
+  nlohmann::json ToJson() const {
+    const double count = static_cast<double>(none.size());
+    return {{"crops", none.size()},
+            {"error_none", RoundTo(Mean(none), 3)},
+            {"error_eyeballs", RoundTo(Mean(eyeballs), 3)},
+            {"error_full", RoundTo(Mean(full), 3)},
+            {"median_none", RoundTo(Median(none), 3)},
+            {"median_eyeballs", RoundTo(Median(eyeballs), 3)},
+            {"median_full", RoundTo(Median(full), 3)},
+            {"full_beats_eyeballs", RoundTo(full_beats_eyeballs / count, 3)},
+            {"eyeballs_beat_none", RoundTo(eyeballs_beat_none / count, 3)}};
+  }
+};
+
 void WriteRedirectCases(const std::string& path, const std::vector<RedirectColumbiaCase>& cases) {
   CsvWriter csv(path, {"file", "subject", "eye", "label_pitch", "label_yaw", "fit_good", "error_none", "error_eyeballs",
                        "error_full"});
@@ -216,12 +254,7 @@ void WriteRedirectCases(const std::string& path, const std::vector<RedirectColum
 }
 
 int RunRedirectColumbiaEval(const EvalOptions& options) {
-  ApplyLogLevel(options.common);
-  if (options.json) spdlog::set_level(spdlog::level::warn);
-  const std::filesystem::path dir = ColumbiaDir(options);
-  const std::vector<ColumbiaCrop> crops = SelectCrops(options, dir);
-  const auto model = EyeRegionModel::Load(Assets::Resolve(options.common.assets));
-  const FitOptions fit_options = ColumbiaFitOptions(options);
+  const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
   std::unique_ptr<Progress> progress;
   const std::filesystem::path out_dir(options.out_dir);
   Timer timer;
@@ -236,57 +269,33 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
       });
   if (progress) progress->Finish();
   if (cases.empty()) Fail(ExitCode::kBadInput, "no subject in {} has a 0P 0V 0H crop and others at head pose 0", dir.string());
-  std::vector<double> none, eyeballs, full;
-  int full_beats_eyeballs = 0, eyeballs_beat_none = 0;
-  for (const RedirectColumbiaCase& c : cases) {
-    none.push_back(c.error_none), eyeballs.push_back(c.error_eyeballs), full.push_back(c.error_full);
-    full_beats_eyeballs += c.error_full < c.error_eyeballs;
-    eyeballs_beat_none += c.error_eyeballs < c.error_none;
-  }
+  ConditionErrors overall;
+  // By the target's elevation: pitch changes move the lids, yaw changes do not.
+  std::map<int, ConditionErrors> by_vertical;
+  for (const RedirectColumbiaCase& c : cases) overall.Add(c), by_vertical[c.target.vertical].Add(c);
   if (!options.cdf_plot.empty()) WriteImage(options.cdf_plot, ErrorCdfPlot(cases));
   if (!options.csv.empty()) WriteRedirectCases(options.csv, cases);
-  // By the target's elevation: pitch changes move the lids, yaw changes do not.
-  std::map<int, std::array<std::vector<double>, 3>> by_vertical;
-  for (const RedirectColumbiaCase& c : cases) {
-    auto& errors = by_vertical[c.target.vertical];
-    errors[0].push_back(c.error_none), errors[1].push_back(c.error_eyeballs), errors[2].push_back(c.error_full);
-  }
   const double seconds = timer.Seconds();
   if (options.json) {
-    nlohmann::json vertical;
-    for (const auto& [v, errors] : by_vertical) {
-      vertical[std::to_string(v)] = {{"crops", errors[0].size()},
-                                     {"error_none", RoundTo(Mean(errors[0]), 3)},
-                                     {"error_eyeballs", RoundTo(Mean(errors[1]), 3)},
-                                     {"error_full", RoundTo(Mean(errors[2]), 3)}};
-    }
-    fmt::print("{}\n", nlohmann::json{{"crops", cases.size()},
-                                      {"eyelid_follow", options.eyelid_follow},
-                                      {"by_vertical", vertical},
-                                      {"error_none", RoundTo(Mean(none), 3)},
-                                      {"error_eyeballs", RoundTo(Mean(eyeballs), 3)},
-                                      {"error_full", RoundTo(Mean(full), 3)},
-                                      {"median_none", RoundTo(Median(none), 3)},
-                                      {"median_eyeballs", RoundTo(Median(eyeballs), 3)},
-                                      {"median_full", RoundTo(Median(full), 3)},
-                                      {"full_beats_eyeballs", RoundTo(double(full_beats_eyeballs) / cases.size(), 3)},
-                                      {"eyeballs_beat_none", RoundTo(double(eyeballs_beat_none) / cases.size(), 3)},
-                                      {"seconds", RoundTo(seconds, 1)}}
-                                .dump());
+    nlohmann::json result = overall.ToJson();
+    result["eyelid_follow"] = options.eyelid_follow;
+    for (const auto& [v, errors] : by_vertical) result["by_vertical"][std::to_string(v)] = errors.ToJson();
+    result["seconds"] = RoundTo(seconds, 1);
+    fmt::print("{}\n", result.dump());
     return 0;
   }
   fmt::print("gaze redirection on {} Columbia crops in {} (head pose 0, from each subject's 0V 0H crop)\n", cases.size(),
              dir.string());
   fmt::print("mean absolute pixel error (8-bit levels)     mean   median\n");
-  fmt::print("  (a) no redirection                      {:>7.2f} {:>8.2f}\n", Mean(none), Median(none));
-  fmt::print("  (b) eyeballs only                       {:>7.2f} {:>8.2f}\n", Mean(eyeballs), Median(eyeballs));
-  fmt::print("  (c) eyeballs and eyelids                {:>7.2f} {:>8.2f}\n", Mean(full), Median(full));
-  fmt::print("(b) better than (a) on {:.0f}% of crops, (c) better than (b) on {:.0f}%\n", 100.0 * eyeballs_beat_none / cases.size(),
-             100.0 * full_beats_eyeballs / cases.size());
+  fmt::print("  (a) no redirection                      {:>7.2f} {:>8.2f}\n", Mean(overall.none), Median(overall.none));
+  fmt::print("  (b) eyeballs only                       {:>7.2f} {:>8.2f}\n", Mean(overall.eyeballs), Median(overall.eyeballs));
+  fmt::print("  (c) eyeballs and eyelids                {:>7.2f} {:>8.2f}\n", Mean(overall.full), Median(overall.full));
+  fmt::print("(b) better than (a) on {:.0f}% of crops, (c) better than (b) on {:.0f}%\n",
+             100.0 * overall.eyeballs_beat_none / cases.size(), 100.0 * overall.full_beats_eyeballs / cases.size());
   fmt::print("by target elevation V     crops     (a)     (b)     (c)\n");
   for (const auto& [v, errors] : by_vertical) {
-    fmt::print("  {:>+4d}                  {:>6} {:>7.2f} {:>7.2f} {:>7.2f}\n", v, errors[0].size(), Mean(errors[0]),
-               Mean(errors[1]), Mean(errors[2]));
+    fmt::print("  {:>+4d}                  {:>6} {:>7.2f} {:>7.2f} {:>7.2f}\n", v, errors.none.size(), Mean(errors.none),
+               Mean(errors.eyeballs), Mean(errors.full));
   }
   fmt::print("eyelids follow {:.2f} of each change of pitch\n", options.eyelid_follow);
   if (!options.cdf_plot.empty()) fmt::print("error curves: {}\n", options.cdf_plot);

@@ -81,23 +81,6 @@ class Texture {
   };
   Level level(int index) const { return {levels_[index].data(), sizes_[index]}; }
 
-  // Four channels: one vector load per texel.
-  Eigen::Vector4f Sample4(float u, float v, int level) const {
-    static_assert(C == 4);
-    const int s = sizes_[level];
-    const float* texels = levels_[level].data();
-    const float x = std::clamp(u * s - 0.5f, 0.0f, s - 1.001f);
-    const float y = std::clamp((1.0f - v) * s - 0.5f, 0.0f, s - 1.001f);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const float fx = x - x0, fy = y - y0;
-    const float* row0 = texels + (static_cast<std::size_t>(y0) * s + x0) * 4;
-    const float* row1 = row0 + static_cast<std::size_t>(s) * 4;
-    using Texel = Eigen::Map<const Eigen::Vector4f>;
-    const Eigen::Vector4f top = Texel(row0) + fx * (Texel(row0 + 4) - Texel(row0));
-    const Eigen::Vector4f bottom = Texel(row1) + fx * (Texel(row1 + 4) - Texel(row1));
-    return top + fy * (bottom - top);
-  }
-
   void Sample(float u, float v, int level, float* out) const {
     const int s = sizes_[level];
     const float* texels = levels_[level].data();
