@@ -46,22 +46,40 @@ struct EvalOptions {
   std::string cdf_plot = "eval_redirect_columbia.png";
 };
 
-// Mean and median absolute yaw and pitch errors of a set of fits.
+// Mean and median absolute yaw and pitch errors of a set of estimates
+// (crops or photos).
 struct ErrorSummary {
   int count = 0;
   double yaw_mean = 0, yaw_median = 0, pitch_mean = 0, pitch_median = 0;
   double zero_yaw_mean = 0, zero_pitch_mean = 0;  // the always-straight-ahead predictor
 };
 
-ErrorSummary Summarise(const std::vector<const ColumbiaFit*>& fits) {
+template <typename Estimate>
+ErrorSummary Summarise(const std::vector<const Estimate*>& estimates) {
   std::vector<double> yaw, pitch, zero_yaw, zero_pitch;
-  for (const ColumbiaFit* fit : fits) {
-    yaw.push_back(fit->yaw_error);
-    pitch.push_back(fit->pitch_error);
-    zero_yaw.push_back(std::abs(fit->crop.horizontal));
-    zero_pitch.push_back(std::abs(fit->crop.vertical));
+  for (const Estimate* estimate : estimates) {
+    yaw.push_back(estimate->yaw_error);
+    pitch.push_back(estimate->pitch_error);
+    zero_yaw.push_back(std::abs(estimate->crop.horizontal));
+    zero_pitch.push_back(std::abs(estimate->crop.vertical));
   }
-  return {static_cast<int>(fits.size()), Mean(yaw), Median(yaw), Mean(pitch), Median(pitch), Mean(zero_yaw), Mean(zero_pitch)};
+  return {static_cast<int>(estimates.size()), Mean(yaw), Median(yaw), Mean(pitch), Median(pitch), Mean(zero_yaw), Mean(zero_pitch)};
+}
+
+// Overall and per head pose.
+struct PoseSummaries {
+  ErrorSummary all;
+  std::map<int, ErrorSummary> by_pose;
+};
+
+template <typename Estimate>
+PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates) {
+  std::map<int, std::vector<const Estimate*>> by_pose;
+  std::vector<const Estimate*> all;
+  for (const Estimate& estimate : estimates) by_pose[estimate.crop.head_pose].push_back(&estimate), all.push_back(&estimate);
+  PoseSummaries summaries{Summarise(all), {}};
+  for (const auto& [pose, subset] : by_pose) summaries.by_pose[pose] = Summarise(subset);
+  return summaries;
 }
 
 nlohmann::json ToJson(const ErrorSummary& s) {
@@ -100,17 +118,18 @@ std::filesystem::path ColumbiaDir(const EvalOptions& options) {
 }
 
 // The crops of the chosen subjects and head poses (all when none are
-// chosen), every `every`th of them.
+// chosen), from every `every`th photo (both eyes of a photo stay together).
 std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::filesystem::path& dir) {
   auto chosen = [](const auto& list, const auto& value) {
     return list.empty() || std::find(list.begin(), list.end(), value) != list.end();
   };
   std::vector<ColumbiaCrop> crops;
-  int index = 0;
+  int photo_index = -1;
+  std::string last_photo;
   for (const ColumbiaCrop& crop : ListColumbia(dir)) {
-    if (chosen(options.subjects, crop.subject) && chosen(options.poses, crop.head_pose) && index++ % options.every == 0) {
-      crops.push_back(crop);
-    }
+    if (!chosen(options.subjects, crop.subject) || !chosen(options.poses, crop.head_pose)) continue;
+    if (crop.Photo() != last_photo) last_photo = crop.Photo(), ++photo_index;
+    if (photo_index % options.every == 0) crops.push_back(crop);
   }
   if (crops.empty()) Fail(ExitCode::kBadInput, "no crops in {} match the filters", dir.string());
   return crops;
@@ -153,45 +172,62 @@ int RunColumbiaEval(const EvalOptions& options) {
   const double seconds = timer.Seconds();
   progress.Finish();
 
-  std::map<int, std::vector<const ColumbiaFit*>> by_pose;
-  std::vector<const ColumbiaFit*> all;
-  for (const ColumbiaFit& fit : fits) by_pose[fit.crop.head_pose].push_back(&fit), all.push_back(&fit);
-  const ErrorSummary overall = Summarise(all);
+  const std::vector<ColumbiaPhoto> photos = CombineEyes(fits);
+  const PoseSummaries by_photo = SummariseByPose(photos);
+  const PoseSummaries by_crop = SummariseByPose(fits);
   const double fits_per_s = fits.size() / seconds;
 
   if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
   if (!options.csv.empty()) {
     CsvWriter csv(options.csv, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "pitch", "yaw",
                                 "pitch_error", "yaw_error", "head_pitch", "head_yaw", "camera_pitch", "camera_yaw",
-                                "seconds"});
+                                "seconds", "face_pitch", "face_yaw", "energy"});
+    std::map<std::string, const ColumbiaPhoto*> photo_of;
+    for (const ColumbiaPhoto& photo : photos) photo_of[photo.crop.Photo()] = &photo;
     for (const ColumbiaFit& fit : fits) {
+      const ColumbiaPhoto& photo = *photo_of.at(fit.crop.Photo());
       csv.AddRow({fit.crop.path.filename().string(), fit.crop.subject, std::to_string(fit.crop.head_pose),
                   std::to_string(fit.crop.vertical), std::to_string(fit.crop.horizontal), std::string(1, fit.crop.eye),
                   fmt::format("{:.3f}", fit.pitch), fmt::format("{:.3f}", fit.yaw), fmt::format("{:.3f}", fit.pitch_error),
                   fmt::format("{:.3f}", fit.yaw_error), fmt::format("{:.3f}", fit.head_pitch),
                   fmt::format("{:.3f}", fit.head_yaw), fmt::format("{:.3f}", fit.camera_pitch),
-                  fmt::format("{:.3f}", fit.camera_yaw), fmt::format("{:.3f}", fit.seconds)});
+                  fmt::format("{:.3f}", fit.camera_yaw), fmt::format("{:.3f}", fit.seconds),
+                  fmt::format("{:.3f}", photo.pitch), fmt::format("{:.3f}", photo.yaw), fmt::format("{:.6f}", fit.energy)});
     }
     csv.Finish();
   }
   if (options.json) {
-    nlohmann::json result = ToJson(overall);
+    // The headline figures are the faces' gazes (both eyes), as the paper's.
+    nlohmann::json result = ToJson(by_photo.all);
+    result["photos"] = photos.size();
+    result["one_eye"] = ToJson(by_crop.all);
     result["fits_per_s"] = RoundTo(fits_per_s, 2);
     result["threads"] = options.threads;
     result["head_pose"] = options.known_head_pose ? "known (P from the file name)" : "estimated";
-    for (const auto& [pose, subset] : by_pose) result["by_head_pose"][std::to_string(pose)] = ToJson(Summarise(subset));
+    for (const auto& [pose, summary] : by_photo.by_pose) {
+      nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
+      entry = ToJson(summary);
+      entry["one_eye"] = ToJson(by_crop.by_pose.at(pose));
+    }
     fmt::print("{}\n", result.dump());
     return 0;
   }
-  fmt::print("gaze error relative to the head on {} Columbia crops in {} (degrees)\n", fits.size(), dir.string());
-  fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>14} {:>14}\n", "head pose", "crops", "yaw mean", "median",
-             "pitch mean", "median", "zero yaw mean", "zero pitch mean");
-  auto row = [](const std::string& name, const ErrorSummary& s) {
-    fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>14.2f} {:>14.2f}\n", name, s.count, s.yaw_mean,
-               s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_pitch_mean);
+  auto table = [](const PoseSummaries& summaries, const std::string& unit) {
+    fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>14} {:>14}\n", "head pose", unit, "yaw mean", "median",
+               "pitch mean", "median", "zero yaw mean", "zero pitch mean");
+    auto row = [](const std::string& name, const ErrorSummary& s) {
+      fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>14.2f} {:>14.2f}\n", name, s.count, s.yaw_mean,
+                 s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_pitch_mean);
+    };
+    for (const auto& [pose, summary] : summaries.by_pose) row(std::to_string(pose), summary);
+    row("all", summaries.all);
   };
-  for (const auto& [pose, subset] : by_pose) row(fmt::format("{}", pose), Summarise(subset));
-  row("all", overall);
+  fmt::print("gaze error relative to the head on {} photos ({} crops) in {} (degrees)\n", photos.size(), fits.size(),
+             dir.string());
+  fmt::print("the face's gaze: the mean of both eyes' fits where both crops are there\n");
+  table(by_photo, "photos");
+  fmt::print("one eye: each crop on its own\n");
+  table(by_crop, "crops");
   fmt::print("head pose: {}\n", options.known_head_pose ? "known (P from the file names)" : "estimated from each crop");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
   if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
@@ -352,7 +388,7 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--csv", options->csv, "Write every crop's estimate and error here");
   columbia->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
   columbia->add_option("--poses", options->poses, "Only these head poses (e.g. 0 15)");
-  columbia->add_option("--every", options->every, "Take every Nth crop (a quick, spread-out sample)")->check(CLI::PositiveNumber);
+  columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")->check(CLI::PositiveNumber);
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_flag("--known-head-pose", options->known_head_pose,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <map>
 #include <mutex>
 #include <regex>
 #include <thread>
@@ -19,6 +20,11 @@ namespace gazedirector {
 namespace fs = std::filesystem;
 
 int ColumbiaCrop::ModelEye() const { return eye == 'L' ? kRightEye : kLeftEye; }
+
+std::string ColumbiaCrop::Photo() const {
+  const std::string name = path.filename().string();
+  return name.substr(0, name.size() - std::string("_L.jpg").size());
+}
 
 bool ParseColumbiaName(const fs::path& path, ColumbiaCrop& crop) {
   static const std::regex pattern(R"((\d{4})_2m_(-?\d+)P_(-?\d+)V_(-?\d+)H_([LR])\.jpg)");
@@ -53,6 +59,26 @@ double GazeAngleBetween(double pitch_a, double yaw_a, double pitch_b, double yaw
   return RadToDeg(std::acos(std::clamp(a.dot(b), -1.0, 1.0)));
 }
 
+std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits) {
+  std::vector<ColumbiaPhoto> photos;
+  std::map<std::string, std::size_t> index_of_photo;
+  for (const ColumbiaFit& fit : fits) {
+    const auto [it, is_new] = index_of_photo.emplace(fit.crop.Photo(), photos.size());
+    if (is_new) photos.push_back({fit.crop});
+    ColumbiaPhoto& photo = photos[it->second];
+    photo.pitch += fit.pitch;
+    photo.yaw += fit.yaw;
+    ++photo.eyes;
+  }
+  for (ColumbiaPhoto& photo : photos) {
+    photo.pitch /= photo.eyes;
+    photo.yaw /= photo.eyes;
+    photo.pitch_error = std::abs(photo.pitch - photo.crop.vertical);
+    photo.yaw_error = std::abs(photo.yaw - photo.crop.horizontal);
+  }
+  return photos;
+}
+
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
                                      const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int)>& progress) {
@@ -79,6 +105,7 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         ColumbiaFit& fit = fits[i];
         fit.crop = crop;
         fit.seconds = timer.Seconds();
+        fit.energy = result.terms.total();
         fit.pitch = result.phi.gaze_pitch();
         fit.yaw = EyeRegionModel::EyeYaw(result.phi, crop.ModelEye());
         fit.head_pitch = result.phi.rotation_deg().x();

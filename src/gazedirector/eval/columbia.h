@@ -19,6 +19,8 @@ struct ColumbiaCrop {
   int horizontal = 0;  // H: gaze target azimuth, degrees (toward image right at P = 0)
   char eye = 'L';     // L: the image-left eye (the subject's right); R: the subject's left
   int ModelEye() const;
+  // The photo both eyes' crops come from: the file name without _L/_R.
+  std::string Photo() const;
 };
 
 // Parses a crop's file name; false when it is not one.
@@ -36,12 +38,27 @@ struct ColumbiaFit {
   // The gaze in the camera's frame, relative to the line from the eye to
   // the camera (degrees; up +, toward image right +).
   double camera_pitch = 0, camera_yaw = 0;
+  double energy = 0;  // the fit's final E
   double seconds = 0;
   // Per Gauss-Newton iterate (0: the start): photometric energy and gaze
   // error (degrees, the angle between estimated and labelled directions).
   std::vector<double> energy_by_iteration;
   std::vector<double> gaze_error_by_iteration;
 };
+
+// The gaze of one photo's face. Where both eyes' crops are there it is the
+// mean of the two eyes' fits, as in the paper's model, whose two eyeballs
+// share one pitch and yaw: the eyes look at the same target, and errors that
+// mirror between them (where each eyeball sits behind its lids) cancel.
+struct ColumbiaPhoto {
+  ColumbiaCrop crop;  // the first eye's crop: the photo's labels
+  int eyes = 0;       // 1 or 2
+  double pitch = 0, yaw = 0;
+  double pitch_error = 0, yaw_error = 0;  // absolute, degrees
+};
+
+// One entry per photo, in the order of the fits.
+std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits);
 
 // Fits every crop with `threads` fitters working side by side; `progress`
 // is called after each crop.

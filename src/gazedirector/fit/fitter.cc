@@ -148,7 +148,7 @@ Camera Fitter::EyePatchCamera(cv::Size crop) {
   return {8.0 * crop.width, 8.0 * crop.width, 0.5 * (crop.width - 1), 0.5 * (crop.height - 1), crop.width, crop.height};
 }
 
-Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance) const {
+Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance, double head_yaw) const {
   const Camera camera = EyePatchCamera(crop);
   Parameters phi;
   phi.interocular() = kAverageInterocularMm;
@@ -161,17 +161,25 @@ Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance)
   const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * half, 0)},
                                              {eye, 1, centre - Eigen::Vector2d(inner_side * half, 0)}};
   phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, *model_, camera, corners);
+  // A turned head keeps its distance (the crops are framed at a fixed scale)
+  // but moves the eye on the image: bring the corners' midpoint back.
+  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
+  for (int pass = 0; pass < 3; ++pass) {
+    const auto model_corners = ModelEyeCorners(phi, *model_, eye);
+    const Eigen::Vector2d miss = 0.5 * (camera.Project(model_corners[0]) + camera.Project(model_corners[1])) - centre;
+    const double depth = phi.translation().z();
+    phi.block<Block::kTranslation>().head<2>() -= Eigen::Vector2d(miss.x() / camera.fx, miss.y() / camera.fy) * depth;
+  }
   return phi;
 }
 
 FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
                                  double head_yaw) {
   const Camera camera = EyePatchCamera(crop.size());
-  Parameters phi = EyePatchStart(crop.size(), eye, corner_distance);
+  Parameters phi = EyePatchStart(crop.size(), eye, corner_distance, head_yaw);
   phi.gaze_pitch() = pitch;
   phi.gaze_yaw() = yaw;
   phi.eyelid_pitch() = pitch;
-  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
   const Eigen::Vector2d centre(camera.cx, camera.cy);
 
   // The crop's framing stands in for the landmarks: the mean of the eye's

@@ -80,8 +80,9 @@ class Fitter {
   // sits at the crop's centre, its corners (the canthi) `corner_distance` of
   // the crop's width apart (0.76 in the Columbia crops, measured on their mean). `eye` is the subject's (kLeftEye is the image-right eye).
   FitResult FitEyePatch(const cv::Mat& crop, int eye, double corner_distance = 0.76);
-  // Where FitEyePatch starts: the eye placed by the crop's framing, mean shape.
-  Parameters EyePatchStart(cv::Size crop, int eye, double corner_distance = 0.76) const;
+  // Where FitEyePatch starts: the eye placed by the crop's framing, mean
+  // shape, the head turned by `head_yaw` degrees.
+  Parameters EyePatchStart(cv::Size crop, int eye, double corner_distance = 0.76, double head_yaw = 0.0) const;
   static Camera EyePatchCamera(cv::Size crop);
   // The same, starting from a given gaze (pitch, yaw in degrees; the lids follow).
   FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance = 0.76,

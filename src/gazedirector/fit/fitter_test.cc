@@ -1,0 +1,84 @@
+#include "gazedirector/fit/fitter.h"
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "gazedirector/fit/landmark_model.h"
+#include "gazedirector/render/renderer.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+std::shared_ptr<const EyeRegionModel> Model() {
+  static const auto model = EyeRegionModel::Load(testing::TestAssets());
+  return model;
+}
+
+FitOptions EyePatchOptions() {
+  FitOptions options;
+  options.work_width = 128;  // as for the Columbia crops
+  return options;
+}
+
+// A 64x64 crop of the subject's left eye rendered from a known Φ: the mean
+// shape framed as Fitter::EyePatchStart frames it, turned and looking as asked.
+cv::Mat RenderEyePatch(const Fitter& fitter, double head_yaw, double pitch, double yaw) {
+  const cv::Size size(64, 64);
+  Parameters phi = fitter.EyePatchStart(size, kLeftEye);
+  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
+  phi.gaze_pitch() = pitch;
+  phi.eyelid_pitch() = pitch;
+  phi.gaze_yaw() = yaw;
+  // Framed as the crops are: the mean of the eye's six landmarks at the centre.
+  const Camera camera = Fitter::EyePatchCamera(size);
+  const LandmarkModel centre = LandmarkModel(*Model()).EyeCentre(kLeftEye);
+  Renderer renderer(Model());
+  renderer.set_eyes(true, false);
+  for (int pass = 0; pass < 3; ++pass) {
+    renderer.Pose(phi);
+    std::vector<Eigen::Vector2d> projected;
+    centre.Project(renderer.posed(), camera, projected);
+    const double depth = phi.block<Block::kTranslation>().z();
+    phi.block<Block::kTranslation>().x() -= (projected[0].x() - camera.cx) * depth / camera.fx;
+    phi.block<Block::kTranslation>().y() -= (projected[0].y() - camera.cy) * depth / camera.fy;
+  }
+  RenderBuffers buffers;
+  renderer.Render(phi, camera, buffers);
+  return buffers.ColourImage(cv::Mat(size, CV_8UC3, cv::Scalar(110, 140, 190)));
+}
+
+struct SyntheticCase {
+  double head_yaw, pitch, yaw;
+};
+
+class SyntheticEyePatchTest : public ::testing::TestWithParam<SyntheticCase> {};
+
+// The model's own renders are the one input whose gaze is known exactly:
+// the fit must find it again, also with the head turned (given its yaw).
+TEST_P(SyntheticEyePatchTest, RecoversTheRenderedGaze) {
+  const SyntheticCase c = GetParam();
+  FitOptions options = EyePatchOptions();
+  options.free[LayoutOf(Block::kRotation).offset + 1] = false;  // the head's yaw is given
+  Fitter fitter(Model(), options);
+  const cv::Mat crop = RenderEyePatch(fitter, c.head_yaw, c.pitch, c.yaw);
+  const FitResult fit = fitter.FitEyePatchAt(crop, kLeftEye, 0, 0, 0.76, c.head_yaw);
+  EXPECT_NEAR(fit.phi.gaze_pitch(), c.pitch, 2.0);
+  EXPECT_NEAR(EyeRegionModel::EyeYaw(fit.phi, kLeftEye), c.yaw, 2.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Gazes, SyntheticEyePatchTest,
+                         ::testing::Values(SyntheticCase{0, 0, 0}, SyntheticCase{0, -8, 12}, SyntheticCase{0, 8, -12},
+                                           SyntheticCase{30, 0, 0}, SyntheticCase{-30, 0, 10}),
+                         [](const ::testing::TestParamInfo<SyntheticCase>& info) {
+                           auto name = [](const char* what, double value) {
+                             return std::string(what) + (value < 0 ? "Minus" : "") + std::to_string(std::abs(static_cast<int>(value)));
+                           };
+                           const SyntheticCase& c = info.param;
+                           return name("Head", c.head_yaw) + name("Pitch", c.pitch) + name("Yaw", c.yaw);
+                         });
+
+}  // namespace
+}  // namespace gazedirector
