@@ -65,6 +65,13 @@ void RequireOutputKind(const std::string& path, const std::string& option, Media
   }
 }
 
+void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
+                            MediaKind kind) {
+  RequireExtension(output, "-o", {".json", ".jsonl"});
+  if (!csv.empty()) RequireExtension(csv, "--csv", {".csv"});
+  RequireOutputKind(overlay, "--overlay", kind);
+}
+
 void WarnIfTruncated(const VideoReader& reader, const std::string& input) {
   if (reader.EndedEarly()) {
     spdlog::warn("{}: the video ended after {} of {} frames (truncated?)", input, reader.frame_index() + 1,

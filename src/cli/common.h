@@ -51,6 +51,10 @@ bool IsImagePath(const std::filesystem::path& path);
 // Fails with a usage error unless `path` (given as `option`) suits the input's
 // kind: an image for an image, a video for a video. Empty paths pass.
 void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind);
+// The outputs of the analysis commands (landmarks, track): -o JSON or JSON
+// lines, --csv a CSV, --overlay of the input's kind (optional ones may be empty).
+void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
+                            MediaKind kind);
 // Warns when a video stopped before the frame count its container announced.
 void WarnIfTruncated(const VideoReader& reader, const std::string& input);
 

@@ -381,29 +381,31 @@ Command RegisterEvalCommand(CLI::App& root) {
                         "dlib XML with marked faces (default: ../shared/data/dlib-faces/testing_with_face_landmarks.xml)");
   landmarks->add_flag("--json", options->json, "Print one JSON object");
   AddCommonOptions(*landmarks, options->common);
+  // What both Columbia evaluations take: the crops, which subjects, the fitter's options.
+  auto add_columbia_options = [&options](CLI::App* command) {
+    command->add_option("dir", options->columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
+    command->add_flag("--json", options->json, "Print one JSON object");
+    command->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
+    command->add_option("--fit", options->fit_options,
+                        "Fitter options as name=value (" + fmt::format("{}", fmt::join(ListFitOptions(), ", ")) + ")");
+  };
   CLI::App* columbia = app->add_subcommand("columbia", "Gaze estimation error on Columbia Gaze eye crops (file-name labels)");
-  columbia->add_option("dir", options->columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
-  columbia->add_flag("--json", options->json, "Print one JSON object");
+  add_columbia_options(columbia);
   columbia->add_option("--plot", options->plot, "Write the convergence figure here (PNG)")->capture_default_str();
   columbia->add_option("--csv", options->csv, "Write every crop's estimate and error here");
-  columbia->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
   columbia->add_option("--poses", options->poses, "Only these head poses (e.g. 0 15)");
   columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")->check(CLI::PositiveNumber);
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_flag("--known-head-pose", options->known_head_pose,
                      "Give the fitter the head's yaw from the file name (P) instead of estimating it from one eye");
-  columbia->add_option("--fit", options->fit_options, "Fitter options as name=value (" + fmt::format("{}", fmt::join(ListFitOptions(), ", ")) + ")");
   AddCommonOptions(*columbia, options->common);
 
   CLI::App* redirect = app->add_subcommand("redirect-columbia",
                                            "Redirection error on Columbia crops: each subject's 0V 0H crop redirected to the other gazes");
-  redirect->add_option("dir", options->columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
-  redirect->add_flag("--json", options->json, "Print one JSON object");
+  add_columbia_options(redirect);
   redirect->add_option("--plot", options->cdf_plot, "Write the cumulative error curves here (PNG)")->capture_default_str();
   redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c) under the name of the real crop it imitates");
-  redirect->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
-  redirect->add_option("--fit", options->fit_options, "Fitter options as name=value");
   redirect->add_option("--csv", options->csv, "Write every crop's three errors here");
   redirect->add_option("--eyelid-follow", options->eyelid_follow, "How far the eyelids follow a change of pitch (0: not at all, 1: fully)")
       ->check(CLI::Range(0.0, 1.5))

@@ -121,9 +121,7 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
 int RunLandmarks(const LandmarksOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
-  RequireExtension(options.output, "-o", {".json", ".jsonl"});
-  if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
-  RequireOutputKind(options.overlay, "--overlay", kind);
+  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind);
   const Assets assets = Assets::Resolve(options.common.assets);
   FaceTrackerOptions tracker_options;
   tracker_options.largest_only = options.largest;

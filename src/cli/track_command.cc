@@ -159,13 +159,11 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
 
 int RunTrack(const TrackOptions& options) {
   ApplyLogLevel(options.common);
-  RequireExtension(options.output, "-o", {".json", ".jsonl"});
-  if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
   const MediaKind kind = DetectMediaKind(options.input);
+  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind);
   if (!options.eye_patch.empty() && kind != MediaKind::kImage) {
     Fail(ExitCode::kUsage, "--eye-patch takes an image of one eye, not a video");
   }
-  RequireOutputKind(options.overlay, "--overlay", kind);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup);
   return kind == MediaKind::kImage ? RunOnImage(options, setup) : RunOnVideo(options, setup);

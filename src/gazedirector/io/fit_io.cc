@@ -117,8 +117,6 @@ FitsFile ReadFits(const std::filesystem::path& path) {
   std::ifstream stream(path);
   if (!stream) Fail(ExitCode::kBadInput, "{}: cannot read the fits file", path.string());
   FitsFile file;
-  std::string line;
-  long line_number = 0;
   // A single-image fits file may be one pretty-printed document.
   std::string text((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
   std::vector<nlohmann::json> records;
@@ -127,6 +125,8 @@ FitsFile ReadFits(const std::filesystem::path& path) {
     records.push_back(whole);
   } catch (const nlohmann::json::exception&) {
     std::istringstream lines(text);
+    std::string line;
+    long line_number = 0;
     while (std::getline(lines, line)) {
       ++line_number;
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
