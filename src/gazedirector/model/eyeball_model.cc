@@ -47,6 +47,26 @@ void VertexNormals(const Eigen::Matrix3Xd& positions, const std::vector<Eigen::V
   }
 }
 
+namespace {
+
+// For each vertex, the vertex at its mirror image (coordinates scaled by
+// `flip`); the mesh must be symmetric to within 0.01 mm.
+std::vector<int> MirrorVertices(const Eigen::Matrix3Xd& positions, const Eigen::Vector3d& flip,
+                                const std::filesystem::path& obj) {
+  std::vector<int> mirrored(static_cast<std::size_t>(positions.cols()));
+  for (Eigen::Index i = 0; i < positions.cols(); ++i) {
+    Eigen::Index nearest = 0;
+    (positions.colwise() - positions.col(i).cwiseProduct(flip)).colwise().squaredNorm().minCoeff(&nearest);
+    if ((positions.col(nearest) - positions.col(i).cwiseProduct(flip)).norm() > 0.01) {
+      Fail(ExitCode::kAssets, "{}: the eyeball mesh is not symmetric (vertex {})", obj.string(), i);
+    }
+    mirrored[static_cast<std::size_t>(i)] = static_cast<int>(nearest);
+  }
+  return mirrored;
+}
+
+}  // namespace
+
 Eigen::Vector2d EyeballModel::AnglesOf(const Eigen::Vector3d& d) {
   return {std::atan2(d.x(), -d.y()), std::atan2(d.z(), std::hypot(d.x(), d.y()))};
 }
@@ -82,6 +102,8 @@ EyeballModel EyeballModel::Load(const std::filesystem::path& obj) {
     }
   }
   if (model.cornea_.size() < 33) Fail(ExitCode::kAssets, "{}: found no cornea in front of the limbus", obj.string());
+  model.mirrored_x_ = MirrorVertices(model.positions_, Eigen::Vector3d(-1, 1, 1), obj);
+  model.mirrored_z_ = MirrorVertices(model.positions_, Eigen::Vector3d(1, 1, -1), obj);
   return model;
 }
 

@@ -39,6 +39,12 @@ class EyeballModel {
   // the ray refracts at the cornea and meets the iris plane.
   Eigen::Vector2d RefractedUv(int vertex, const Eigen::Vector3d& view, double iris_size) const;
 
+  // The vertex at each vertex's mirror image across the eyeball's vertical
+  // plane (x -> -x) or its horizontal plane (z -> -z): the mesh is symmetric
+  // about both, so surface hidden on one side can borrow from the other.
+  const std::vector<int>& mirrored_across_x() const { return mirrored_x_; }
+  const std::vector<int>& mirrored_across_z() const { return mirrored_z_; }
+
   // Angular coordinates (azimuth, elevation) of a direction in the eyeball frame.
   static Eigen::Vector2d AnglesOf(const Eigen::Vector3d& direction);
 
@@ -50,6 +56,8 @@ class EyeballModel {
   std::vector<Eigen::Vector3i> triangles_;
   std::vector<int> cornea_;
   std::vector<bool> is_cornea_;
+  std::vector<int> mirrored_x_;
+  std::vector<int> mirrored_z_;
 };
 
 // Orients triangles counter-clockwise seen from outside: their normals point

@@ -33,6 +33,26 @@ void ProjectParts(const PosedModel& posed, const Camera& camera, std::array<bool
   }
 }
 
+// For each eyeball part, the columns of `sources` permuted to the vertices'
+// mirror images across x, across z and across both (six rows).
+void MirrorEyeballSources(const std::array<Eigen::MatrixXf, kNumParts>& sources, const EyeballModel& eyeball,
+                          std::array<Eigen::MatrixXf, kNumParts>& mirrors) {
+  const std::vector<int>& across_x = eyeball.mirrored_across_x();
+  const std::vector<int>& across_z = eyeball.mirrored_across_z();
+  for (int part = 0; part < kNumParts; ++part) {
+    if (!IsEyeball(part) || sources[part].cols() != static_cast<Eigen::Index>(across_x.size())) {
+      mirrors[part].resize(0, 0);
+      continue;
+    }
+    mirrors[part].resize(6, sources[part].cols());
+    for (Eigen::Index v = 0; v < sources[part].cols(); ++v) {
+      mirrors[part].block<2, 1>(0, v) = sources[part].col(across_x[v]);
+      mirrors[part].block<2, 1>(2, v) = sources[part].col(across_z[v]);
+      mirrors[part].block<2, 1>(4, v) = sources[part].col(across_z[across_x[v]]);
+    }
+  }
+}
+
 int CountPart(const RenderBuffers& buffers, int part) {
   int count = 0;
   for (int pixel : buffers.foreground) count += buffers.PartAt(pixel) == part;
@@ -200,6 +220,10 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // Where each surface point of the re-posed model was in the photo.
   ProjectParts(fitted_renderer_.posed(), crop_camera, {options_.warp_eyelids, options_.warp_eyelids, true, true}, sources_);
   const cv::Mat source = Renderer::InterpolateAttribute(target_buffers_, *model_, sources_, 2);
+  // And where its mirror images across the eyeball's vertical and horizontal
+  // planes were: stand-ins for eyeball surface the photo did not show.
+  MirrorEyeballSources(sources_, model_->eyeball(), mirrors_);
+  const cv::Mat mirror_source = Renderer::InterpolateAttribute(target_buffers_, *model_, mirrors_, 6);
 
   // The eyelid warp: facial skin pixels fetch the photo where their surface was.
   cv::Mat map(region.size(), CV_32FC2);
@@ -233,17 +257,15 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   if (gain > 0) Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
 
   // The new eyeballs: the photo's own eye surface where the fitted eyeball
-  // showed it (away from its old highlights), the rendering elsewhere.
-  cv::Mat fitted_eyeballs(region.size(), CV_8UC1, cv::Scalar(0));
-  for (int pixel : fitted_buffers_.foreground) {
-    if (IsEyeball(fitted_buffers_.PartAt(pixel))) fitted_eyeballs.data[pixel] = 255;
-  }
-  // Keep clear of the old lid margin, where a slightly wide fit shows skin.
-  cv::erode(fitted_eyeballs, fitted_eyeballs, cv::Mat(), cv::Point(-1, -1), 2);
+  // showed it, or showed its mirror image (away from old highlights), the
+  // rendering elsewhere. Right up to the fitted lid margin: the lashes' shade
+  // there is the photo's, which the rendering lacks.
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
   // The rendering's colour is matched to the photo's eye where both are
-  // known, separately for the bright (sclera) and dark (iris) pixels.
+  // known, separately for the bright (sclera) and dark (iris) pixels: the
+  // median ratio per channel, which the few skin pixels a slightly wide fit
+  // lets in cannot tint.
   float brightest = 0;
   for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
     if (IsEyeball(target_buffers_.PartAt(target_buffers_.foreground[i]))) {
@@ -251,7 +273,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     }
   }
   const float sclera_threshold = 0.55f * brightest;
-  std::array<cv::Vec3d, 2> transferred_sum = {}, rendered_sum = {};
+  for (std::vector<float>& ratios : colour_ratios_) ratios.clear();
   for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
     const int pixel = target_buffers_.foreground[i];
     const int part = target_buffers_.PartAt(pixel);
@@ -260,28 +282,35 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     const cv::Vec3f colour = RenderedBgr(target_buffers_, i);
     rendered.at<cv::Vec3f>(y, x) = colour;
     if (!options_.transfer_eyeballs) continue;
-    const cv::Vec2f s = source.at<cv::Vec2f>(y, x);
-    const int sx = static_cast<int>(std::lround(s[0])), sy = static_cast<int>(std::lround(s[1]));
-    if (sx < 0 || sy < 0 || sx >= region.width || sy >= region.height) continue;
-    const int source_pixel = sy * width + sx;
-    if (!fitted_eyeballs.data[source_pixel] || fitted_buffers_.PartAt(source_pixel) != part) continue;
-    if (gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > 0.06f) continue;  // an old highlight
+    // The photo where this surface point was, else where its mirror images were.
+    auto usable = [&](const cv::Vec2f& s) {
+      const int sx = static_cast<int>(std::lround(s[0])), sy = static_cast<int>(std::lround(s[1]));
+      if (sx < 0 || sy < 0 || sx >= region.width || sy >= region.height) return false;
+      const int source_pixel = sy * width + sx;
+      if (fitted_buffers_.PartAt(source_pixel) != part) return false;
+      return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > 0.06f);  // an old highlight
+    };
+    cv::Vec2f s = source.at<cv::Vec2f>(y, x);
+    bool found = usable(s);
+    const cv::Vec6f& mirrors = mirror_source.at<cv::Vec6f>(y, x);
+    for (int k = 0; k < 3 && !found; ++k) {
+      s = {mirrors[2 * k], mirrors[2 * k + 1]};
+      found = usable(s);
+    }
+    if (!found) continue;
     const cv::Vec3f value = Bilinear(photo, s[0], s[1]);
     transferred.at<cv::Vec3f>(y, x) = value;
     transfer_mask.data[pixel] = 255;
     const int group = Luminance(colour) > sclera_threshold;
-    transferred_sum[group] += cv::Vec3d(value[0], value[1], value[2]);
-    rendered_sum[group] += cv::Vec3d(colour[0], colour[1], colour[2]);
+    for (int c = 0; c < 3; ++c) colour_ratios_[3 * group + c].push_back(value[c] / std::max(colour[c], 1e-3f));
   }
-  // One gain per group for all channels: a per-channel gain would tint the
-  // white of the eye with whatever skin a slightly wide fit let in.
   std::array<cv::Vec3f, 2> colour_gain = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
   for (int group = 0; group < 2; ++group) {
-    const double rendered_total = rendered_sum[group][0] + rendered_sum[group][1] + rendered_sum[group][2];
-    const double transferred_total = transferred_sum[group][0] + transferred_sum[group][1] + transferred_sum[group][2];
-    if (rendered_total > 0.15) {
-      const float g = static_cast<float>(std::clamp(transferred_total / rendered_total, 0.5, 1.6));
-      colour_gain[group] = cv::Vec3f(g, g, g);
+    for (int c = 0; c < 3; ++c) {
+      std::vector<float>& ratios = colour_ratios_[3 * group + c];
+      if (ratios.size() < 10) continue;
+      std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+      colour_gain[group][c] = std::clamp(ratios[ratios.size() / 2], 0.3f, 3.0f);
     }
   }
   cv::Mat transfer_weight;

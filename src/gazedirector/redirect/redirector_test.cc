@@ -68,7 +68,9 @@ TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
   cv::Mat difference;
   cv::absdiff(result, p.image, difference);
   EXPECT_EQ(cv::norm(difference, cv::NORM_INF, outside), 0.0);
-  EXPECT_LT(cv::mean(difference(report.region))[1], 2.0);
+  // Only the swapped corneal highlights and the seam's blur may differ (the
+  // photo's own eye is reused right up to the lid margin).
+  EXPECT_LT(cv::mean(difference(report.region))[1], 0.5);
 }
 
 TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
