@@ -42,7 +42,7 @@ struct EvalOptions {
   std::vector<std::string> fit_options;
   bool known_head_pose = false;
   std::string out_dir;
-  double eyelid_follow = kEyelidFollow;
+  RedirectColumbiaOptions redirect;
   std::string cdf_plot = "eval_redirect_columbia.png";
 };
 
@@ -295,7 +295,7 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
   const std::filesystem::path out_dir(options.out_dir);
   Timer timer;
   const std::vector<RedirectColumbiaCase> cases = EvaluateRedirectColumbia(
-      crops, model, fit_options, options.eyelid_follow,
+      crops, model, fit_options, options.redirect,
       [&](const RedirectColumbiaCase& c, const cv::Mat& image) {
         if (!options.out_dir.empty()) WriteImage(out_dir / c.target.path.filename(), image);
       },
@@ -314,7 +314,8 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
   const double seconds = timer.Seconds();
   if (options.json) {
     nlohmann::json result = overall.ToJson();
-    result["eyelid_follow"] = options.eyelid_follow;
+    result["eyelid_follow"] = options.redirect.eyelid_follow;
+    result["angle_scale"] = options.redirect.angle_scale;
     for (const auto& [v, errors] : by_vertical) result["by_vertical"][std::to_string(v)] = errors.ToJson();
     result["seconds"] = RoundTo(seconds, 1);
     fmt::print("{}\n", result.dump());
@@ -333,7 +334,10 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
     fmt::print("  {:>+4d}                  {:>6} {:>7.2f} {:>7.2f} {:>7.2f}\n", v, errors.none.size(), Mean(errors.none),
                Mean(errors.eyeballs), Mean(errors.full));
   }
-  fmt::print("eyelids follow {:.2f} of each change of pitch\n", options.eyelid_follow);
+  fmt::print("eyelids follow {:.2f} of each change of pitch\n", options.redirect.eyelid_follow);
+  if (options.redirect.angle_scale != 1.0) {
+    fmt::print("gaze changed by {:.2f} of each label's change (not the evaluation's 1)\n", options.redirect.angle_scale);
+  }
   if (!options.cdf_plot.empty()) fmt::print("error curves: {}\n", options.cdf_plot);
   if (!options.out_dir.empty()) fmt::print("redirected crops (c): {}\n", options.out_dir);
   return 0;
@@ -407,8 +411,12 @@ Command RegisterEvalCommand(CLI::App& root) {
   redirect->add_option("--plot", options->cdf_plot, "Write the cumulative error curves here (PNG)")->capture_default_str();
   redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c) under the name of the real crop it imitates");
   redirect->add_option("--csv", options->csv, "Write every crop's three errors here");
-  redirect->add_option("--eyelid-follow", options->eyelid_follow, "How far the eyelids follow a change of pitch (0: not at all, 1: fully)")
+  redirect->add_option("--eyelid-follow", options->redirect.eyelid_follow, "How far the eyelids follow a change of pitch (0: not at all, 1: fully)")
       ->check(CLI::Range(0.0, 1.5))
+      ->capture_default_str();
+  redirect->add_option("--angle-scale", options->redirect.angle_scale,
+                       "Redirect by this fraction of each label's change of gaze (analysis; the evaluation is 1)")
+      ->check(CLI::Range(0.0, 2.0))
       ->capture_default_str();
   AddCommonOptions(*redirect, options->common);
   return {app, [options, landmarks, columbia, redirect] {

@@ -19,7 +19,7 @@ double MeanAbsoluteError(const cv::Mat& a, const cv::Mat& b) {
 
 std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
     const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model, const FitOptions& fit_options,
-    double eyelid_follow,
+    const RedirectColumbiaOptions& options,
     const std::function<void(const RedirectColumbiaCase&, const cv::Mat&)>& on_output,
     const std::function<void(int, int)>& progress) {
   // Crops at head pose 0, grouped by subject and eye.
@@ -60,7 +60,9 @@ std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
       result.target = target;
       result.fit_good = fit.good;
       // Columbia's H is toward the image right at head pose 0: the subject's left, +yaw.
-      const Parameters phi = Retarget(fit.phi, GazeTarget::Offset(target.vertical, target.horizontal), eyelid_follow);
+      const GazeTarget offset =
+          GazeTarget::Offset(options.angle_scale * target.vertical, options.angle_scale * target.horizontal);
+      const Parameters phi = Retarget(fit.phi, offset, options.eyelid_follow);
       cv::Mat only_eyeballs = source_image.clone(), redirected = source_image.clone();
       const RedirectReport a = eyeballs.Redirect(only_eyeballs, camera, fit.phi, phi);
       const RedirectReport b = full.Redirect(redirected, camera, fit.phi, phi);

@@ -8,6 +8,7 @@
 
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/fit/fitter.h"
+#include "gazedirector/redirect/gaze_target.h"
 
 namespace gazedirector {
 
@@ -23,13 +24,20 @@ struct RedirectColumbiaCase {
   bool fit_good = false;
 };
 
-// Runs the paper's redirection evaluation on the crops of `dir` at head pose
-// 0 (subjects limited to `subjects` when not empty). `on_output` receives
-// each fully redirected crop (condition c); `progress` the number done.
-// The eyelids follow `eyelid_follow` of each change of pitch (see Retarget).
+struct RedirectColumbiaOptions {
+  double eyelid_follow = kEyelidFollow;  // the eyelids follow this much of each change of pitch (see Retarget)
+  // Redirect by this fraction of each label's change of gaze. 1 is the
+  // evaluation; other values show how the pixel error weighs a shortfall
+  // against an overshoot.
+  double angle_scale = 1.0;
+};
+
+// Runs the paper's redirection evaluation on the crops at head pose 0.
+// `on_output` receives each fully redirected crop (condition c); `progress`
+// the number done.
 std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
     const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model, const FitOptions& fit_options,
-    double eyelid_follow,
+    const RedirectColumbiaOptions& options,
     const std::function<void(const RedirectColumbiaCase&, const cv::Mat&)>& on_output = nullptr,
     const std::function<void(int done, int total)>& progress = nullptr);
 
