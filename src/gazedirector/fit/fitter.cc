@@ -223,17 +223,23 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
     }
   }
   if (!linear.empty()) {
-    main.renderer.LinearJacobian(phi, problem.camera(), main.buffers, linear_);
+    std::vector<int> which;
+    for (const auto& [column, k] : linear) which.push_back(k);
+    main.renderer.LinearJacobian(phi, problem.camera(), main.buffers, which, linear_);
     const std::vector<int>& domain = problem.domain();
+    pixel_scales_.resize(domain.size());
+    for (std::size_t d = 0; d < domain.size(); ++d) pixel_scales_[d] = problem.PixelScale(main, domain[d]);
     const int texture_prior_row = rows - 3 - kNumTextureModes;
-    for (const auto& [column, k] : linear) {
+    for (std::size_t n = 0; n < linear.size(); ++n) {
+      const int column = linear[n].first;
       auto out = jacobian_.col(column);
       out.setZero();
       for (std::size_t d = 0; d < domain.size(); ++d) {
         const int i = main.foreground_index[domain[d]];
         if (i < 0) continue;
-        const float scale = problem.PixelScale(main, domain[d]);
-        for (int c = 0; c < 3; ++c) out[3 * static_cast<Eigen::Index>(d) + c] = linear_(3 * i + c, k) * scale;
+        for (int c = 0; c < 3; ++c) {
+          out[3 * static_cast<Eigen::Index>(d) + c] = linear_(3 * i + c, static_cast<Eigen::Index>(n)) * pixel_scales_[d];
+        }
       }
       const int parameter = free[column];
       const int texture = parameter - LayoutOf(Block::kTexture).offset;
@@ -255,7 +261,13 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
     problem.Evaluate(down, work, &work.minus);
     jacobian_.col(column) = (work.plus - work.minus) / static_cast<float>(2 * h);
   });
-  normal = (jacobian_.transpose() * jacobian_).cast<double>();
+  // JᵀJ is symmetric: one triangle, half the work of a full product.
+  normal_float_.setZero(columns, columns);
+  normal_float_.selfadjointView<Eigen::Lower>().rankUpdate(jacobian_.transpose());
+  normal.resize(columns, columns);
+  for (int j = 0; j < columns; ++j) {
+    for (int i = j; i < columns; ++i) normal(i, j) = normal(j, i) = normal_float_(i, j);
+  }
   gradient = (jacobian_.transpose() * residuals_).cast<double>();
   return terms.total();
 }

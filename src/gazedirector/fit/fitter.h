@@ -121,6 +121,8 @@ class Fitter {
   std::vector<std::unique_ptr<EvaluationWorkspace>> workspaces_;
   Eigen::MatrixXf jacobian_;
   Eigen::MatrixXf linear_;
+  Eigen::MatrixXf normal_float_;  // JᵀJ before widening to double
+  std::vector<float> pixel_scales_;  // each domain pixel's weight in the residuals, for the exact columns
   Eigen::VectorXf residuals_;
 };
 

@@ -226,33 +226,56 @@ const std::vector<int>& Renderer::LinearParameters() {
 
 void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
                               Eigen::MatrixXf& jacobian) const {
+  std::vector<int> all(LinearParameters().size());
+  for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  LinearJacobian(phi, camera, buffers, all, jacobian);
+}
+
+void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                              const std::vector<int>& which, Eigen::MatrixXf& jacobian) const {
   constexpr int kTexture = 0, kIris = kNumTextureModes, kSclera = kIris + 3, kAmbient = kSclera + 3, kLight = kAmbient + 3;
   const int count = static_cast<int>(buffers.foreground.size());
-  jacobian.setZero(3 * count, static_cast<Eigen::Index>(LinearParameters().size()));
+  jacobian.resize(3 * count, static_cast<Eigen::Index>(which.size()));
+  // Each requested parameter's column, or -1.
+  std::array<int, kLight + 3> column;
+  column.fill(-1);
+  for (std::size_t k = 0; k < which.size(); ++k) column[which[k]] = static_cast<int>(k);
+  bool any_texture = false;
+  for (int j = 0; j < kNumTextureModes; ++j) any_texture = any_texture || column[kTexture + j] >= 0;
   const ShadingInputs in = Inputs(phi, camera);
   std::array<RgbaTexture::Level, 2 * kNumTextureModes> modes;
   for (int j = 0; j < kNumTextureModes; ++j) {
     modes[2 * j] = model_->texture_mode(j, 0).level(in.skin_level);
     modes[2 * j + 1] = model_->texture_mode(j, 1).level(in.skin_level);
   }
+  auto set = [&](int i, int c, int parameter, float value) {
+    if (column[parameter] >= 0) jacobian(3 * i + c, column[parameter]) = value;
+  };
   for (int i = 0; i < count; ++i) {
     const PixelShading s = ShadePixel(in, i, buffers);
     const Eigen::Vector3f shade = s.a.segment<3>(2);
     for (int c = 0; c < 3; ++c) {
-      jacobian(3 * i + c, kAmbient + c) = s.albedo[c];
-      jacobian(3 * i + c, kLight + c) = s.albedo[c] * s.a[7];
-    }
-    if (s.eyeball) {
-      for (int c = 0; c < 3; ++c) {
-        jacobian(3 * i + c, kIris + c) = s.base[c] * s.iris_weight * shade[c];
-        jacobian(3 * i + c, kSclera + c) = s.base[c] * (1 - s.iris_weight) * shade[c];
+      set(i, c, kAmbient + c, s.albedo[c]);
+      set(i, c, kLight + c, s.albedo[c] * s.a[7]);
+      // Each colour parameter moves one channel, and the eyeball's only the eyeball.
+      for (int other = 0; other < 3; ++other) {
+        if (other == c) continue;
+        set(i, c, kAmbient + other, 0.0f), set(i, c, kLight + other, 0.0f);
+        set(i, c, kIris + other, 0.0f), set(i, c, kSclera + other, 0.0f);
       }
-      continue;
+      set(i, c, kIris + c, s.eyeball ? s.base[c] * s.iris_weight * shade[c] : 0.0f);
+      set(i, c, kSclera + c, s.eyeball ? s.base[c] * (1 - s.iris_weight) * shade[c] : 0.0f);
     }
+    if (!any_texture) continue;
     for (int j = 0; j < kNumTextureModes; ++j) {
+      if (column[kTexture + j] < 0) continue;
+      if (s.eyeball) {
+        for (int c = 0; c < 3; ++c) jacobian(3 * i + c, column[kTexture + j]) = 0.0f;
+        continue;
+      }
       Eigen::Vector3f mode = modes[2 * j].Sample(s.uv.x(), s.uv.y()).head<3>();
       if (in.blend > 0) mode += in.blend * (modes[2 * j + 1].Sample(s.uv.x(), s.uv.y()).head<3>() - mode);
-      for (int c = 0; c < 3; ++c) jacobian(3 * i + c, kTexture + j) = mode[c] * shade[c];
+      for (int c = 0; c < 3; ++c) jacobian(3 * i + c, column[kTexture + j]) = mode[c] * shade[c];
     }
   }
 }

@@ -78,6 +78,10 @@ class Renderer {
   // LinearParameters().
   void LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
                       Eigen::MatrixXf& jacobian) const;
+  // Only the columns `which` (indices into LinearParameters()), in that
+  // order: a fit that holds the texture skips sampling its eight modes.
+  void LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                      const std::vector<int>& which, Eigen::MatrixXf& jacobian) const;
   static const std::vector<int>& LinearParameters();
 
   // Renders only the parts of these eyes (both by default): a single eye is

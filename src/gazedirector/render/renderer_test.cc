@@ -166,6 +166,24 @@ TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {
   }
 }
 
+// Asking for some of the exact columns gives those columns of the full
+// matrix, in the order asked.
+TEST(RendererTest, LinearJacobianOfSomeParametersMatchesTheFullOne) {
+  Renderer renderer(Model());
+  RenderBuffers buffers;
+  Parameters phi = Framed();
+  phi.eyelid_pitch() = -12;
+  renderer.Render(phi, kCamera, buffers);
+  Eigen::MatrixXf full, some;
+  renderer.LinearJacobian(phi, kCamera, buffers, full);
+  const std::vector<int> which = {19, 3, 8, 12, 0, 15};  // light (blue), texture modes 3 and 0, iris, sclera, ambient
+  renderer.LinearJacobian(phi, kCamera, buffers, which, some);
+  ASSERT_EQ(some.cols(), static_cast<Eigen::Index>(which.size()));
+  for (std::size_t k = 0; k < which.size(); ++k) {
+    EXPECT_EQ((some.col(static_cast<Eigen::Index>(k)) - full.col(which[k])).cwiseAbs().maxCoeff(), 0.0f) << which[k];
+  }
+}
+
 TEST(RendererTest, SteadyStateRenderingAllocatesNothing) {
   Renderer renderer(Model());
   RenderBuffers buffers;
