@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include <fmt/format.h>
+
 namespace gazedirector::testing {
 namespace fs = std::filesystem;
 
@@ -41,7 +43,7 @@ fs::path ScratchDir(const std::string& name) {
 fs::path CliPath() { return fs::path(GAZEDIRECTOR_CLI_PATH); }
 
 int RunCli(const std::string& arguments, std::string* output) {
-  const std::string command = "'" + CliPath().string() + "' " + arguments + " 2>&1";
+  const std::string command = fmt::format("'{}' {} 2>&1", CliPath().string(), arguments);
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return -1;
   std::array<char, 4096> buffer;
@@ -52,7 +54,7 @@ int RunCli(const std::string& arguments, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string Quote(const fs::path& path) { return "'" + path.string() + "'"; }
+std::string Quote(const fs::path& path) { return fmt::format("'{}'", path.string()); }
 
 bool NoPartialFiles(const fs::path& dir) {
   for (const auto& entry : fs::recursive_directory_iterator(dir)) {

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
@@ -52,11 +53,11 @@ void FillHoles(cv::Mat& rgb, cv::Mat& valid) {
 }
 
 std::string Fingerprint(const std::vector<fs::path>& files, int num_modes) {
-  std::string text = "v2|" + std::to_string(SkinTextureModel::kSize) + "|" + std::to_string(num_modes);
+  std::string text = fmt::format("v2|{}|{}", SkinTextureModel::kSize, num_modes);
   for (const fs::path& file : files) {
     std::error_code ec;
-    text += "|" + file.filename().string() + ":" + std::to_string(fs::file_size(file, ec)) + ":" +
-            std::to_string(fs::last_write_time(file, ec).time_since_epoch().count());
+    text += fmt::format("|{}:{}:{}", file.filename().string(), fs::file_size(file, ec),
+                        fs::last_write_time(file, ec).time_since_epoch().count());
   }
   return std::to_string(std::hash<std::string>{}(text));
 }

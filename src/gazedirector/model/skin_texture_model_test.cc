@@ -30,7 +30,9 @@ TEST(SkinTextureModelTest, BuildsCachesAndReloadsTheSamePca) {
     std::vector<double> squares;
     for (int i = 0; i < 20; ++i) squares.push_back(std::pow(built.subject_coefficients(i)[j], 2));
     EXPECT_NEAR(Mean(squares) * 20 / 19, 1.0, 1e-3) << "mode " << j;
-    if (j > 0) EXPECT_LE(built.stddev(j), built.stddev(j - 1));
+    if (j > 0) {
+      EXPECT_LE(built.stddev(j), built.stddev(j - 1));
+    }
   }
 }
 

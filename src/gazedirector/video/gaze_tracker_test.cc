@@ -25,7 +25,9 @@ TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
   for (std::size_t i = 0; i < track.size(); ++i) {
     EXPECT_TRUE(track[i].fit.good) << i << ": " << track[i].fit.note;
     EXPECT_EQ(track[i].face.id, track[0].face.id);
-    if (i >= 1) EXPECT_TRUE(track[i].warm) << i;
+    if (i >= 1) {
+      EXPECT_TRUE(track[i].warm) << i;
+    }
     if (i > static_cast<std::size_t>(settle)) {
       EXPECT_EQ(track[i].fit.phi.shape(), track[i - 1].fit.phi.shape()) << i;
       EXPECT_EQ(track[i].fit.phi.texture(), track[i - 1].fit.phi.texture()) << i;
