@@ -17,6 +17,22 @@ constexpr double kCorneaRefractiveIndex = 1.376;
 constexpr double kIrisPlaneDepthMm = topology::kLimbusDepthMm - 0.3;
 constexpr double kScleraUvEdge = 0.45;  // where the stretched sclera meets the unchanged layout
 
+// For each vertex, the vertex at its mirror image (coordinates scaled by
+// `flip`); the mesh must be symmetric to within 0.01 mm.
+std::vector<int> MirrorVertices(const Eigen::Matrix3Xd& positions, const Eigen::Vector3d& flip,
+                                const std::filesystem::path& obj) {
+  std::vector<int> mirrored(static_cast<std::size_t>(positions.cols()));
+  for (Eigen::Index i = 0; i < positions.cols(); ++i) {
+    Eigen::Index nearest = 0;
+    (positions.colwise() - positions.col(i).cwiseProduct(flip)).colwise().squaredNorm().minCoeff(&nearest);
+    if ((positions.col(nearest) - positions.col(i).cwiseProduct(flip)).norm() > 0.01) {
+      Fail(ExitCode::kAssets, "{}: the eyeball mesh is not symmetric (vertex {})", obj.string(), i);
+    }
+    mirrored[static_cast<std::size_t>(i)] = static_cast<int>(nearest);
+  }
+  return mirrored;
+}
+
 }  // namespace
 
 int OrientTriangles(const Eigen::Matrix3Xd& positions, std::vector<Eigen::Vector3i>& triangles,
@@ -46,26 +62,6 @@ void VertexNormals(const Eigen::Matrix3Xd& positions, const std::vector<Eigen::V
     if (length > 0) normals.col(i) /= length;
   }
 }
-
-namespace {
-
-// For each vertex, the vertex at its mirror image (coordinates scaled by
-// `flip`); the mesh must be symmetric to within 0.01 mm.
-std::vector<int> MirrorVertices(const Eigen::Matrix3Xd& positions, const Eigen::Vector3d& flip,
-                                const std::filesystem::path& obj) {
-  std::vector<int> mirrored(static_cast<std::size_t>(positions.cols()));
-  for (Eigen::Index i = 0; i < positions.cols(); ++i) {
-    Eigen::Index nearest = 0;
-    (positions.colwise() - positions.col(i).cwiseProduct(flip)).colwise().squaredNorm().minCoeff(&nearest);
-    if ((positions.col(nearest) - positions.col(i).cwiseProduct(flip)).norm() > 0.01) {
-      Fail(ExitCode::kAssets, "{}: the eyeball mesh is not symmetric (vertex {})", obj.string(), i);
-    }
-    mirrored[static_cast<std::size_t>(i)] = static_cast<int>(nearest);
-  }
-  return mirrored;
-}
-
-}  // namespace
 
 Eigen::Vector2d EyeballModel::AnglesOf(const Eigen::Vector3d& d) {
   return {std::atan2(d.x(), -d.y()), std::atan2(d.z(), std::hypot(d.x(), d.y()))};

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/render/model_bounds.h"
+#include "gazedirector/util/statistics.h"
 
 namespace gazedirector {
 namespace {
@@ -273,7 +274,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     }
   }
   const float sclera_threshold = 0.55f * brightest;
-  for (std::vector<float>& ratios : colour_ratios_) ratios.clear();
+  for (std::vector<double>& ratios : colour_ratios_) ratios.clear();
   for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
     const int pixel = target_buffers_.foreground[i];
     const int part = target_buffers_.PartAt(pixel);
@@ -307,10 +308,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   std::array<cv::Vec3f, 2> colour_gain = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
   for (int group = 0; group < 2; ++group) {
     for (int c = 0; c < 3; ++c) {
-      std::vector<float>& ratios = colour_ratios_[3 * group + c];
-      if (ratios.size() < 10) continue;
-      std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-      colour_gain[group][c] = std::clamp(ratios[ratios.size() / 2], 0.3f, 3.0f);
+      const std::vector<double>& ratios = colour_ratios_[3 * group + c];
+      if (ratios.size() >= 10) colour_gain[group][c] = static_cast<float>(std::clamp(Median(ratios), 0.3, 3.0));
     }
   }
   cv::Mat transfer_weight;

@@ -85,7 +85,7 @@ class Redirector {
   RenderBuffers target_buffers_;
   std::array<Eigen::MatrixXf, kNumParts> sources_;
   std::array<Eigen::MatrixXf, kNumParts> mirrors_;
-  std::array<std::vector<float>, 6> colour_ratios_;  // photo / rendering, per group (iris, sclera) and channel
+  std::array<std::vector<double>, 6> colour_ratios_;  // photo / rendering, per group (iris, sclera) and channel
 };
 
 // Flow (CV_32FC2) as a picture: hue is direction, saturation is length

@@ -235,7 +235,7 @@ void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const
                               const std::vector<int>& which, Eigen::MatrixXf& jacobian) const {
   constexpr int kTexture = 0, kIris = kNumTextureModes, kSclera = kIris + 3, kAmbient = kSclera + 3, kLight = kAmbient + 3;
   const int count = static_cast<int>(buffers.foreground.size());
-  jacobian.resize(3 * count, static_cast<Eigen::Index>(which.size()));
+  jacobian.setZero(3 * count, static_cast<Eigen::Index>(which.size()));
   // Each requested parameter's column, or -1.
   std::array<int, kLight + 3> column;
   column.fill(-1);
@@ -248,6 +248,7 @@ void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const
     modes[2 * j] = model_->texture_mode(j, 0).level(in.skin_level);
     modes[2 * j + 1] = model_->texture_mode(j, 1).level(in.skin_level);
   }
+  // Each colour parameter moves one channel; entries not set stay zero.
   auto set = [&](int i, int c, int parameter, float value) {
     if (column[parameter] >= 0) jacobian(3 * i + c, column[parameter]) = value;
   };
@@ -257,22 +258,17 @@ void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const
     for (int c = 0; c < 3; ++c) {
       set(i, c, kAmbient + c, s.albedo[c]);
       set(i, c, kLight + c, s.albedo[c] * s.a[7]);
-      // Each colour parameter moves one channel, and the eyeball's only the eyeball.
-      for (int other = 0; other < 3; ++other) {
-        if (other == c) continue;
-        set(i, c, kAmbient + other, 0.0f), set(i, c, kLight + other, 0.0f);
-        set(i, c, kIris + other, 0.0f), set(i, c, kSclera + other, 0.0f);
+    }
+    if (s.eyeball) {
+      for (int c = 0; c < 3; ++c) {
+        set(i, c, kIris + c, s.base[c] * s.iris_weight * shade[c]);
+        set(i, c, kSclera + c, s.base[c] * (1 - s.iris_weight) * shade[c]);
       }
-      set(i, c, kIris + c, s.eyeball ? s.base[c] * s.iris_weight * shade[c] : 0.0f);
-      set(i, c, kSclera + c, s.eyeball ? s.base[c] * (1 - s.iris_weight) * shade[c] : 0.0f);
+      continue;
     }
     if (!any_texture) continue;
     for (int j = 0; j < kNumTextureModes; ++j) {
       if (column[kTexture + j] < 0) continue;
-      if (s.eyeball) {
-        for (int c = 0; c < 3; ++c) jacobian(3 * i + c, column[kTexture + j]) = 0.0f;
-        continue;
-      }
       Eigen::Vector3f mode = modes[2 * j].Sample(s.uv.x(), s.uv.y()).head<3>();
       if (in.blend > 0) mode += in.blend * (modes[2 * j + 1].Sample(s.uv.x(), s.uv.y()).head<3>() - mode);
       for (int c = 0; c < 3; ++c) jacobian(3 * i + c, column[kTexture + j]) = mode[c] * shade[c];
