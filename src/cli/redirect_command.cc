@@ -101,6 +101,7 @@ void WriteDebug(const std::filesystem::path& dir, const std::string& prefix, con
   WriteImage(dir / (prefix + "skin_mask.png"), layers.skin_mask, inputs);
   WriteImage(dir / (prefix + "eyeball_mask.png"), layers.eyeball_mask, inputs);
   WriteImage(dir / (prefix + "transfer_mask.png"), layers.transfer_mask, inputs);
+  WriteImage(dir / (prefix + "sclera_mask.png"), layers.sclera_mask, inputs);
   WriteImage(dir / (prefix + "eyeball_layer.png"), layers.eyeball_layer, inputs);
   WriteImage(dir / (prefix + "specular.png"), layers.specular, inputs);
   if (report.environment >= 0) {

@@ -95,7 +95,13 @@ cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
 }
 
 Redirector::Redirector(std::shared_ptr<const EyeRegionModel> model, RedirectOptions options)
-    : model_(model), options_(options), fitted_renderer_(model), target_renderer_(model) {}
+    : model_(model), options_(options), fitted_renderer_(model), target_renderer_(model) {
+  const std::vector<bool>& is_cornea = model_->eyeball().is_cornea();
+  for (int part : {kLeftEyeball, kRightEyeball}) {
+    cornea_flags_[part].resize(1, static_cast<Eigen::Index>(is_cornea.size()));
+    for (std::size_t v = 0; v < is_cornea.size(); ++v) cornea_flags_[part](0, static_cast<Eigen::Index>(v)) = is_cornea[v];
+  }
+}
 
 std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note) {
   // How much eyeball the fit (in fitted_buffers_) shows, against the same
@@ -264,17 +270,26 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
   // The rendering's colour is matched to the photo's eye where both are
-  // known, separately for the bright (sclera) and dark (iris) pixels: the
-  // median ratio per channel, which the few skin pixels a slightly wide fit
-  // lets in cannot tint.
-  float brightest = 0;
-  for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
-    if (IsEyeball(target_buffers_.PartAt(target_buffers_.foreground[i]))) {
-      brightest = std::max(brightest, Luminance(RenderedBgr(target_buffers_, i)));
-    }
+  // known, separately for the iris (the cornea, which shows it) and the
+  // sclera: the median per channel, which the few skin pixels a slightly
+  // wide fit lets in cannot tint.
+  const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
+  auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
+  // How deep inside its eye opening each pixel is (pixels from the lids), in
+  // the photo's fit and in the re-posed model. Surface the photo showed at
+  // its lid margin carries the lashes' shade: it may land near the new
+  // margin, not deep in the new opening, where it would draw dark streaks.
+  cv::Mat fitted_eyeball_mask(region.size(), CV_8UC1, cv::Scalar(0));
+  for (int pixel : fitted_buffers_.foreground) {
+    if (IsEyeball(fitted_buffers_.PartAt(pixel))) fitted_eyeball_mask.data[pixel] = 255;
   }
-  const float sclera_threshold = 0.55f * brightest;
+  cv::Mat source_depth, target_depth;
+  cv::distanceTransform(fitted_eyeball_mask, source_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
+  const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));
   for (std::vector<double>& ratios : colour_ratios_) ratios.clear();
+  for (std::vector<double>& samples : sclera_samples_) samples.clear();
   for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
     const int pixel = target_buffers_.foreground[i];
     const int part = target_buffers_.PartAt(pixel);
@@ -284,11 +299,14 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     rendered.at<cv::Vec3f>(y, x) = colour;
     if (!options_.transfer_eyeballs) continue;
     // The photo where this surface point was, else where its mirror images were.
+    // (The iris is dark itself: there the lashes' shade does no harm.)
+    const float depth_needed = is_sclera(x, y) ? std::min(target_depth.at<float>(y, x), margin_px) - 0.5f : -1.0f;
     auto usable = [&](const cv::Vec2f& s) {
       const int sx = static_cast<int>(std::lround(s[0])), sy = static_cast<int>(std::lround(s[1]));
       if (sx < 0 || sy < 0 || sx >= region.width || sy >= region.height) return false;
       const int source_pixel = sy * width + sx;
       if (fitted_buffers_.PartAt(source_pixel) != part) return false;
+      if (source_depth.at<float>(sy, sx) < depth_needed) return false;  // lash shade
       return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > 0.06f);  // an old highlight
     };
     cv::Vec2f s = source.at<cv::Vec2f>(y, x);
@@ -302,8 +320,25 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     const cv::Vec3f value = Bilinear(photo, s[0], s[1]);
     transferred.at<cv::Vec3f>(y, x) = value;
     transfer_mask.data[pixel] = 255;
-    const int group = Luminance(colour) > sclera_threshold;
+    const int group = is_sclera(x, y);
     for (int c = 0; c < 3; ++c) colour_ratios_[3 * group + c].push_back(value[c] / std::max(colour[c], 1e-3f));
+    if (group == 1) {
+      for (int c = 0; c < 3; ++c) sclera_samples_[c].push_back(value[c]);
+      sclera_samples_[3].push_back(Luminance(colour));
+      sclera_samples_[4].push_back(Luminance(value));
+    }
+  }
+  // Photo sclera much darker than the photo's typical sclera is lashes, the
+  // iris's edge where the fit missed it by a pixel, or shadow under a lid:
+  // right at the new lids it belongs, deeper in the new opening it would
+  // draw streaks across the white, which the rendering then fills.
+  if (sclera_samples_[4].size() >= 10) {
+    const float dark = 0.7f * static_cast<float>(Median(sclera_samples_[4]));
+    for (int pixel : target_buffers_.foreground) {
+      const int x = pixel % width, y = pixel / width;
+      if (!transfer_mask.data[pixel] || !is_sclera(x, y) || target_depth.at<float>(y, x) <= margin_px) continue;
+      if (Luminance(transferred.at<cv::Vec3f>(y, x)) < dark) transfer_mask.data[pixel] = 0;
+    }
   }
   std::array<cv::Vec3f, 2> colour_gain = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
   for (int group = 0; group < 2; ++group) {
@@ -312,12 +347,29 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       if (ratios.size() >= 10) colour_gain[group][c] = static_cast<float>(std::clamp(Median(ratios), 0.3, 3.0));
     }
   }
+  // Sclera the photo did not show takes the colour of the sclera it did,
+  // shaded as rendered: the texture's reddish periphery, which a large turn
+  // brings into view, would read as smudged skin.
+  const bool sclera_known = sclera_samples_[3].size() >= 10;
+  cv::Vec3f sclera_colour;
+  float sclera_luminance = 1;
+  if (sclera_known) {
+    for (int c = 0; c < 3; ++c) sclera_colour[c] = static_cast<float>(Median(sclera_samples_[c]));
+    sclera_luminance = std::max(1e-3f, static_cast<float>(Median(sclera_samples_[3])));
+  }
+  auto rendered_colour = [&](const cv::Vec3f& plain, bool sclera) -> cv::Vec3f {
+    if (sclera && sclera_known) {
+      // Half the rendering's contrast: its sclera darkens toward the
+      // periphery, which real eyes, wet and lit from all around, hardly do.
+      return sclera_colour * std::clamp(std::sqrt(Luminance(plain) / sclera_luminance), 0.7f, 1.1f);
+    }
+    return plain.mul(colour_gain[sclera]);
+  };
   cv::Mat transfer_weight;
   transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   cv::GaussianBlur(transfer_weight, transfer_weight, cv::Size(0, 0), 0.8);
   cv::Mat seam_alpha;
   eyeball_mask.convertTo(seam_alpha, CV_32F, 1.0 / 255);
-  const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   cv::GaussianBlur(seam_alpha, seam_alpha, cv::Size(0, 0), std::max(0.5, options_.seam_blur * interocular_px));
 
   cv::Mat eyeball_layer = warped.clone(), out = warped.clone();
@@ -326,7 +378,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       if (!eyeball_mask.at<uchar>(y, x)) continue;
       const float w = transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
       const cv::Vec3f plain = rendered.at<cv::Vec3f>(y, x);
-      cv::Vec3f colour = plain.mul(colour_gain[Luminance(plain) > sclera_threshold]);
+      cv::Vec3f colour = rendered_colour(plain, is_sclera(x, y));
       colour = w * transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
       if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
@@ -349,6 +401,10 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     layers->skin_mask = skin_mask;
     layers->eyeball_mask = eyeball_mask;
     layers->transfer_mask = transfer_mask;
+    layers->sclera_mask = cv::Mat(region.size(), CV_8UC1, cv::Scalar(0));
+    for (int pixel : target_buffers_.foreground) {
+      if (eyeball_mask.data[pixel] && is_sclera(pixel % width, pixel / width)) layers->sclera_mask.data[pixel] = 255;
+    }
     eyeball_layer.convertTo(layers->eyeball_layer, CV_8UC3, 255.0);
     if (!new_specular.empty()) {
       cv::Mat grey;

@@ -23,6 +23,10 @@ struct RedirectOptions {
   bool transfer_eyeballs = true;
   bool specular = true;             // add reflections of the chosen environment map
   int environment = -1;             // the environment map; -1 picks the one that explains the photo best
+  // Eyeball surface the photo showed within this fraction of the interocular
+  // distance of its lids carries the lashes' shade: it is reused only as far
+  // from the new lids.
+  double margin_band = 0.02;
   double seam_blur = 0.012;         // Gaussian sigma of the eyeball seam, as a fraction of the interocular distance in pixels
   // An eye counts as closed (and is left alone) when less of its eyeball shows
   // than this fraction of its eye opening when open.
@@ -45,6 +49,7 @@ struct RedirectLayers {
   cv::Mat skin_mask;      // 8-bit: the warped facial skin
   cv::Mat eyeball_mask;   // 8-bit: the new eyeballs
   cv::Mat transfer_mask;  // 8-bit: eyeball pixels taken from the photo (the rest rendered)
+  cv::Mat sclera_mask;    // 8-bit: the new eyeballs' sclera (their corneas, which show the irises, excluded)
   cv::Mat eyeball_layer;  // 8-bit BGR: the composited eyeball colours
   cv::Mat specular;       // 8-bit: the added reflections
 };
@@ -85,7 +90,10 @@ class Redirector {
   RenderBuffers target_buffers_;
   std::array<Eigen::MatrixXf, kNumParts> sources_;
   std::array<Eigen::MatrixXf, kNumParts> mirrors_;
+  std::array<Eigen::MatrixXf, kNumParts> cornea_flags_;  // per eyeball vertex: 1 on the cornea (the iris shows), else 0
   std::array<std::vector<double>, 6> colour_ratios_;  // photo / rendering, per group (iris, sclera) and channel
+  // The photo's sclera (B, G, R), the rendering's luminance there and the photo's.
+  std::array<std::vector<double>, 5> sclera_samples_;
 };
 
 // Flow (CV_32FC2) as a picture: hue is direction, saturation is length

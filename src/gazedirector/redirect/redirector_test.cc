@@ -106,6 +106,60 @@ TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts)
   EXPECT_LT(std::abs(after.y - before.y), 0.3 * predicted);
 }
 
+// Mean luminance and redness ((R - G) / (R + G + B)) of the pixels of `image` under `mask`,
+// and the fraction of them darker than `dark`.
+struct Tone {
+  double luminance = 0, redness = 0, dark_fraction = 0;
+};
+Tone ToneUnder(const cv::Mat& image, const cv::Mat& mask, double dark) {
+  Tone tone;
+  int count = 0;
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      if (!mask.at<uchar>(y, x)) continue;
+      const cv::Vec3b bgr = image.at<cv::Vec3b>(y, x);
+      const double luminance = 0.114 * bgr[0] + 0.587 * bgr[1] + 0.299 * bgr[2];
+      tone.luminance += luminance;
+      tone.redness += (bgr[2] - bgr[1]) / std::max(1.0, double(bgr[0]) + bgr[1] + bgr[2]);
+      tone.dark_fraction += luminance < dark;
+      ++count;
+    }
+  }
+  if (count > 0) tone.luminance /= count, tone.redness /= count, tone.dark_fraction /= count;
+  return tone;
+}
+
+// Turned by 40 degrees, the eyes show sclera the photo never did (hidden
+// under the lids or behind the iris): it must look like the photo's own
+// sclera, not like the pink periphery of the eyeball texture, the skin a
+// slightly wide fit let in, or the lashes' shade dragged across the white.
+TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
+  const FittedPhoto& p = Photo();
+  Redirector redirector(p.model);
+  RedirectLayers still_layers;
+  cv::Mat still = p.image.clone();
+  const RedirectReport at_rest = redirector.Redirect(still, p.camera, p.phi, p.phi, &still_layers);
+  cv::Mat shown;
+  cv::erode(still_layers.sclera_mask, shown, cv::Mat());
+  const Tone photo = ToneUnder(p.image(at_rest.region), shown, 0);
+  ASSERT_GT(cv::countNonZero(shown), 30);
+  for (double yaw : {-40.0, 40.0}) {
+    RedirectLayers layers;
+    cv::Mat turned = p.image.clone();
+    const RedirectReport report = redirector.Redirect(turned, p.camera, p.phi, Retarget(p.phi, GazeTarget::Offset(0, yaw)), &layers);
+    ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
+    cv::Mat inner;
+    cv::erode(layers.sclera_mask, inner, cv::Mat(), cv::Point(-1, -1), 2);
+    ASSERT_GT(cv::countNonZero(inner), 30);
+    const Tone tone = ToneUnder(turned(report.region), inner, 0.6 * photo.luminance);
+    std::printf("yaw %+.0f: sclera luminance %.1f (photo %.1f), redness %.3f (photo %.3f), dark %.3f\n", yaw,
+                tone.luminance, photo.luminance, tone.redness, photo.redness, tone.dark_fraction);
+    EXPECT_NEAR(tone.redness, photo.redness, 0.03) << "yaw " << yaw;
+    EXPECT_NEAR(tone.luminance, photo.luminance, 0.2 * photo.luminance) << "yaw " << yaw;
+    EXPECT_LT(tone.dark_fraction, 0.1) << "yaw " << yaw;
+  }
+}
+
 TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
   const FittedPhoto& p = Photo();
   Redirector redirector(p.model);
