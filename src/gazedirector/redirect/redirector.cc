@@ -76,6 +76,64 @@ cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
          fy * ((1 - fx) * image.at<cv::Vec3f>(y1, x0) + fx * image.at<cv::Vec3f>(y1, x1));
 }
 
+// The rendering's colours matched to the photo's eye, from samples where
+// both are known, separately for the iris (the cornea, which shows it) and
+// the sclera: medians, which the few skin pixels a slightly wide fit lets in
+// cannot tint.
+class EyeColourMatch {
+ public:
+  // The photo's colour `photo` (BGR) where the rendering shows `rendered`.
+  void Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
+    for (int c = 0; c < 3; ++c) ratios_[3 * sclera + c].push_back(photo[c] / std::max(rendered[c], 1e-3f));
+    if (!sclera) return;
+    for (int c = 0; c < 3; ++c) sclera_[c].push_back(photo[c]);
+    sclera_[3].push_back(Luminance(rendered));
+    sclera_[4].push_back(Luminance(photo));
+  }
+
+  // After the last Add.
+  void Finish() {
+    for (int group = 0; group < 2; ++group) {
+      for (int c = 0; c < 3; ++c) {
+        const std::vector<double>& ratios = ratios_[3 * group + c];
+        if (ratios.size() >= kEnough) gain_[group][c] = static_cast<float>(std::clamp(Median(ratios), 0.3, 3.0));
+      }
+    }
+    sclera_known_ = sclera_[3].size() >= kEnough;
+    if (!sclera_known_) return;
+    for (int c = 0; c < 3; ++c) sclera_colour_[c] = static_cast<float>(Median(sclera_[c]));
+    sclera_luminance_ = std::max(1e-3f, static_cast<float>(Median(sclera_[3])));
+    dark_sclera_ = 0.7f * static_cast<float>(Median(sclera_[4]));
+  }
+
+  // Photo sclera darker than this is lashes, the iris's edge where the fit
+  // missed it by a pixel, or shadow under a lid (-1 when unknown).
+  float dark_sclera() const { return dark_sclera_; }
+
+  // A rendered colour as the photo's eye would show it. Sclera takes the
+  // colour of the photo's own sclera, shaded as rendered: the texture's
+  // reddish periphery, which a large turn brings into view, would read as
+  // smudged skin.
+  cv::Vec3f Match(const cv::Vec3f& rendered, bool sclera) const {
+    if (sclera && sclera_known_) {
+      // Half the rendering's contrast: its sclera darkens toward the
+      // periphery, which real eyes, wet and lit from all around, hardly do.
+      return sclera_colour_ * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.1f);
+    }
+    return rendered.mul(gain_[sclera]);
+  }
+
+ private:
+  static constexpr std::size_t kEnough = 10;  // samples
+  std::array<std::vector<double>, 6> ratios_;  // photo / rendering, per group (iris, sclera) and channel
+  std::array<std::vector<double>, 5> sclera_;  // the photo's sclera (B, G, R), the rendering's luminance there, the photo's
+  std::array<cv::Vec3f, 2> gain_ = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
+  bool sclera_known_ = false;
+  cv::Vec3f sclera_colour_;
+  float sclera_luminance_ = 1;
+  float dark_sclera_ = -1;
+};
+
 }  // namespace
 
 cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
@@ -269,10 +327,6 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // there is the photo's, which the rendering lacks.
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
-  // The rendering's colour is matched to the photo's eye where both are
-  // known, separately for the iris (the cornea, which shows it) and the
-  // sclera: the median per channel, which the few skin pixels a slightly
-  // wide fit lets in cannot tint.
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
   // How deep inside its eye opening each pixel is (pixels from the lids), in
@@ -288,8 +342,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));
-  for (std::vector<double>& ratios : colour_ratios_) ratios.clear();
-  for (std::vector<double>& samples : sclera_samples_) samples.clear();
+  EyeColourMatch colours;
   for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
     const int pixel = target_buffers_.foreground[i];
     const int part = target_buffers_.PartAt(pixel);
@@ -320,51 +373,16 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     const cv::Vec3f value = Bilinear(photo, s[0], s[1]);
     transferred.at<cv::Vec3f>(y, x) = value;
     transfer_mask.data[pixel] = 255;
-    const int group = is_sclera(x, y);
-    for (int c = 0; c < 3; ++c) colour_ratios_[3 * group + c].push_back(value[c] / std::max(colour[c], 1e-3f));
-    if (group == 1) {
-      for (int c = 0; c < 3; ++c) sclera_samples_[c].push_back(value[c]);
-      sclera_samples_[3].push_back(Luminance(colour));
-      sclera_samples_[4].push_back(Luminance(value));
-    }
+    colours.Add(value, colour, is_sclera(x, y));
   }
-  // Photo sclera much darker than the photo's typical sclera is lashes, the
-  // iris's edge where the fit missed it by a pixel, or shadow under a lid:
-  // right at the new lids it belongs, deeper in the new opening it would
-  // draw streaks across the white, which the rendering then fills.
-  if (sclera_samples_[4].size() >= 10) {
-    const float dark = 0.7f * static_cast<float>(Median(sclera_samples_[4]));
-    for (int pixel : target_buffers_.foreground) {
-      const int x = pixel % width, y = pixel / width;
-      if (!transfer_mask.data[pixel] || !is_sclera(x, y) || target_depth.at<float>(y, x) <= margin_px) continue;
-      if (Luminance(transferred.at<cv::Vec3f>(y, x)) < dark) transfer_mask.data[pixel] = 0;
-    }
+  colours.Finish();
+  // Dark photo sclera belongs right at the new lids; deeper in the new
+  // opening it would draw streaks across the white, which the rendering fills.
+  for (int pixel : target_buffers_.foreground) {
+    const int x = pixel % width, y = pixel / width;
+    if (!transfer_mask.data[pixel] || !is_sclera(x, y) || target_depth.at<float>(y, x) <= margin_px) continue;
+    if (Luminance(transferred.at<cv::Vec3f>(y, x)) < colours.dark_sclera()) transfer_mask.data[pixel] = 0;
   }
-  std::array<cv::Vec3f, 2> colour_gain = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
-  for (int group = 0; group < 2; ++group) {
-    for (int c = 0; c < 3; ++c) {
-      const std::vector<double>& ratios = colour_ratios_[3 * group + c];
-      if (ratios.size() >= 10) colour_gain[group][c] = static_cast<float>(std::clamp(Median(ratios), 0.3, 3.0));
-    }
-  }
-  // Sclera the photo did not show takes the colour of the sclera it did,
-  // shaded as rendered: the texture's reddish periphery, which a large turn
-  // brings into view, would read as smudged skin.
-  const bool sclera_known = sclera_samples_[3].size() >= 10;
-  cv::Vec3f sclera_colour;
-  float sclera_luminance = 1;
-  if (sclera_known) {
-    for (int c = 0; c < 3; ++c) sclera_colour[c] = static_cast<float>(Median(sclera_samples_[c]));
-    sclera_luminance = std::max(1e-3f, static_cast<float>(Median(sclera_samples_[3])));
-  }
-  auto rendered_colour = [&](const cv::Vec3f& plain, bool sclera) -> cv::Vec3f {
-    if (sclera && sclera_known) {
-      // Half the rendering's contrast: its sclera darkens toward the
-      // periphery, which real eyes, wet and lit from all around, hardly do.
-      return sclera_colour * std::clamp(std::sqrt(Luminance(plain) / sclera_luminance), 0.7f, 1.1f);
-    }
-    return plain.mul(colour_gain[sclera]);
-  };
   cv::Mat transfer_weight;
   transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   cv::GaussianBlur(transfer_weight, transfer_weight, cv::Size(0, 0), 0.8);
@@ -378,7 +396,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       if (!eyeball_mask.at<uchar>(y, x)) continue;
       const float w = transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
       const cv::Vec3f plain = rendered.at<cv::Vec3f>(y, x);
-      cv::Vec3f colour = rendered_colour(plain, is_sclera(x, y));
+      cv::Vec3f colour = colours.Match(plain, is_sclera(x, y));
       colour = w * transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
       if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;

@@ -91,9 +91,6 @@ class Redirector {
   std::array<Eigen::MatrixXf, kNumParts> sources_;
   std::array<Eigen::MatrixXf, kNumParts> mirrors_;
   std::array<Eigen::MatrixXf, kNumParts> cornea_flags_;  // per eyeball vertex: 1 on the cornea (the iris shows), else 0
-  std::array<std::vector<double>, 6> colour_ratios_;  // photo / rendering, per group (iris, sclera) and channel
-  // The photo's sclera (B, G, R), the rendering's luminance there and the photo's.
-  std::array<std::vector<double>, 5> sclera_samples_;
 };
 
 // Flow (CV_32FC2) as a picture: hue is direction, saturation is length
