@@ -264,10 +264,7 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
   // JᵀJ is symmetric: one triangle, half the work of a full product.
   normal_float_.setZero(columns, columns);
   normal_float_.selfadjointView<Eigen::Lower>().rankUpdate(jacobian_.transpose());
-  normal.resize(columns, columns);
-  for (int j = 0; j < columns; ++j) {
-    for (int i = j; i < columns; ++i) normal(i, j) = normal(j, i) = normal_float_(i, j);
-  }
+  normal = normal_float_.selfadjointView<Eigen::Lower>().toDenseMatrix().cast<double>();
   gradient = (jacobian_.transpose() * residuals_).cast<double>();
   return terms.total();
 }

@@ -23,9 +23,9 @@ struct RedirectOptions {
   bool transfer_eyeballs = true;
   bool specular = true;             // add reflections of the chosen environment map
   int environment = -1;             // the environment map; -1 picks the one that explains the photo best
-  // Eyeball surface the photo showed within this fraction of the interocular
-  // distance of its lids carries the lashes' shade: it is reused only as far
-  // from the new lids.
+  // Sclera the photo showed within this fraction of the interocular distance
+  // of its lids carries the lashes' shade: it is reused only as near to the
+  // new lids (the iris, dark itself, is reused anywhere).
   double margin_band = 0.02;
   double seam_blur = 0.012;         // Gaussian sigma of the eyeball seam, as a fraction of the interocular distance in pixels
   // An eye counts as closed (and is left alone) when less of its eyeball shows
