@@ -383,11 +383,15 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (!transfer_mask.data[pixel] || !is_sclera(x, y) || target_depth.at<float>(y, x) <= margin_px) continue;
     if (Luminance(transferred.at<cv::Vec3f>(y, x)) < colours.dark_sclera()) transfer_mask.data[pixel] = 0;
   }
-  cv::Mat transfer_weight;
+  // The photo's share, feathered across the boundary with the rendering only:
+  // blurred within the eyeball mask (normalised), so that the mask's own edge,
+  // where the photo continues outside, does not fade into the rendering.
+  cv::Mat transfer_weight, seam_alpha, eyeball_share;
   transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   cv::GaussianBlur(transfer_weight, transfer_weight, cv::Size(0, 0), 0.8);
-  cv::Mat seam_alpha;
   eyeball_mask.convertTo(seam_alpha, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(seam_alpha, eyeball_share, cv::Size(0, 0), 0.8);
+  transfer_weight /= cv::max(eyeball_share, 1e-3f);
   cv::GaussianBlur(seam_alpha, seam_alpha, cv::Size(0, 0), std::max(0.5, options_.seam_blur * interocular_px));
 
   cv::Mat eyeball_layer = warped.clone(), out = warped.clone();
