@@ -279,12 +279,12 @@ struct ConditionErrors {
 
 void WriteRedirectCases(const std::string& path, const std::vector<RedirectColumbiaCase>& cases) {
   CsvWriter csv(path, {"file", "subject", "eye", "label_pitch", "label_yaw", "fit_good", "error_none", "error_eyeballs",
-                       "error_full"});
+                       "error_full", "shift_x", "shift_y"});
   for (const RedirectColumbiaCase& c : cases) {
     csv.AddRow({c.target.path.filename().string(), c.target.subject, std::string(1, c.target.eye),
                 std::to_string(c.target.vertical), std::to_string(c.target.horizontal), c.fit_good ? "1" : "0",
                 fmt::format("{:.3f}", c.error_none), fmt::format("{:.3f}", c.error_eyeballs),
-                fmt::format("{:.3f}", c.error_full)});
+                fmt::format("{:.3f}", c.error_full), fmt::format("{:.2f}", c.shift.x), fmt::format("{:.2f}", c.shift.y)});
   }
   csv.Finish();
 }
@@ -314,8 +314,10 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
   const double seconds = timer.Seconds();
   if (options.json) {
     nlohmann::json result = overall.ToJson();
-    result["eyelid_follow"] = options.redirect.eyelid_follow;
+    result["eyelid_follow_down"] = options.redirect.eyelid_follow.down;
+    result["eyelid_follow_up"] = options.redirect.eyelid_follow.up;
     result["angle_scale"] = options.redirect.angle_scale;
+    result["registered"] = options.redirect.register_crops;
     for (const auto& [v, errors] : by_vertical) result["by_vertical"][std::to_string(v)] = errors.ToJson();
     result["seconds"] = RoundTo(seconds, 1);
     fmt::print("{}\n", result.dump());
@@ -334,7 +336,16 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
     fmt::print("  {:>+4d}                  {:>6} {:>7.2f} {:>7.2f} {:>7.2f}\n", v, errors.none.size(), Mean(errors.none),
                Mean(errors.eyeballs), Mean(errors.full));
   }
-  fmt::print("eyelids follow {:.2f} of each change of pitch\n", options.redirect.eyelid_follow);
+  if (options.redirect.register_crops) {
+    std::vector<double> shifts;
+    for (const RedirectColumbiaCase& c : cases) shifts.push_back(std::hypot(c.shift.x, c.shift.y));
+    fmt::print("real crops registered to their source crops on the skin around the eye (shift median {:.2f} px, max {:.2f})\n",
+               Median(shifts), *std::max_element(shifts.begin(), shifts.end()));
+  } else {
+    fmt::print("real crops compared as cut (unregistered)\n");
+  }
+  fmt::print("eyelids follow {:.2f} of each change of pitch down, {:.2f} up\n", options.redirect.eyelid_follow.down,
+             options.redirect.eyelid_follow.up);
   if (options.redirect.angle_scale != 1.0) {
     fmt::print("gaze changed by {:.2f} of each label's change (not the evaluation's 1)\n", options.redirect.angle_scale);
   }
@@ -411,9 +422,15 @@ Command RegisterEvalCommand(CLI::App& root) {
   redirect->add_option("--plot", options->cdf_plot, "Write the cumulative error curves here (PNG)")->capture_default_str();
   redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c) under the name of the real crop it imitates");
   redirect->add_option("--csv", options->csv, "Write every crop's three errors here");
-  redirect->add_option("--eyelid-follow", options->redirect.eyelid_follow, "How far the eyelids follow a change of pitch (0: not at all, 1: fully)")
+  redirect->add_option("--eyelid-follow-down", options->redirect.eyelid_follow.down,
+                       "How far the eyelids follow a downward change of pitch (0: not at all, 1: fully)")
       ->check(CLI::Range(0.0, 1.5))
       ->capture_default_str();
+  redirect->add_option("--eyelid-follow-up", options->redirect.eyelid_follow.up, "The same for an upward change")
+      ->check(CLI::Range(0.0, 1.5))
+      ->capture_default_str();
+  redirect->add_flag("--no-register", [options](std::int64_t) { options->redirect.register_crops = false; },
+                     "Compare with the real crops as cut, without registering them to the source crop on the skin around the eye");
   redirect->add_option("--angle-scale", options->redirect.angle_scale,
                        "Redirect by this fraction of each label's change of gaze (analysis; the evaluation is 1)")
       ->check(CLI::Range(0.0, 2.0))

@@ -3,9 +3,13 @@
 #include <map>
 #include <tuple>
 
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/redirect/redirector.h"
+#include "gazedirector/render/renderer.h"
 #include "gazedirector/util/interrupt.h"
 
 namespace gazedirector {
@@ -16,6 +20,55 @@ double MeanAbsoluteError(const cv::Mat& a, const cv::Mat& b) {
   const cv::Scalar sum = cv::sum(difference);
   return (sum[0] + sum[1] + sum[2]) / (static_cast<double>(a.total()) * a.channels());
 }
+
+cv::Point2f RegisterOnSkin(const cv::Mat& source, const cv::Mat& real, const cv::Rect& eye) {
+  cv::Mat template_grey, real_grey;
+  cv::cvtColor(source, template_grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(real, real_grey, cv::COLOR_BGR2GRAY);
+  template_grey.convertTo(template_grey, CV_32F);
+  real_grey.convertTo(real_grey, CV_32F);
+  cv::Mat skin(source.size(), CV_8UC1, cv::Scalar(255));
+  skin(eye & cv::Rect(0, 0, source.cols, source.rows)).setTo(0);
+  cv::Mat warp = cv::Mat::eye(2, 3, CV_32F);
+  try {
+    const cv::TermCriteria until(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-5);
+    cv::findTransformECC(template_grey, real_grey, warp, cv::MOTION_TRANSLATION, until, skin, 1);
+  } catch (const cv::Exception&) {
+    return {0, 0};  // ECC did not converge: compare unregistered
+  }
+  const cv::Point2f shift(warp.at<float>(0, 2), warp.at<float>(1, 2));
+  // A crop's framing wanders by a few pixels; more is a failed estimate.
+  return std::hypot(shift.x, shift.y) <= 0.15f * source.cols ? shift : cv::Point2f(0, 0);
+}
+
+cv::Mat Shifted(const cv::Mat& image, cv::Point2f shift) {
+  if (shift == cv::Point2f(0, 0)) return image;
+  const cv::Matx23f back(1, 0, -shift.x, 0, 1, -shift.y);  // out(x) = image(x - shift)
+  cv::Mat out;
+  cv::warpAffine(image, out, back, image.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  return out;
+}
+
+namespace {
+
+// The fitted eye opening, widened to the lids and the crease above it, which
+// move with the gaze.
+cv::Rect EyeBox(const Parameters& phi, std::shared_ptr<const EyeRegionModel> model, const Camera& camera, int eye) {
+  Renderer renderer(model);
+  renderer.set_eyes(eye == kLeftEye, eye == kRightEye);
+  RenderBuffers buffers;
+  renderer.Render(phi, camera, buffers);
+  std::vector<cv::Point> eyeball;
+  for (int pixel : buffers.foreground) {
+    if (IsEyeball(buffers.PartAt(pixel))) eyeball.emplace_back(pixel % buffers.width(), pixel / buffers.width());
+  }
+  if (eyeball.empty()) return {};
+  const cv::Rect box = cv::boundingRect(eyeball);
+  const int side = box.width / 8, above = box.height * 3 / 4, below = box.height / 2;
+  return {box.x - side, box.y - above, box.width + 2 * side, box.height + above + below};
+}
+
+}  // namespace
 
 std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
     const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model, const FitOptions& fit_options,
@@ -50,6 +103,7 @@ std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
     const int eye = source->ModelEye();
     const FitResult fit = fitter.FitEyePatch(source_image, eye);
     const Camera camera = Fitter::EyePatchCamera(source_image.size());
+    const cv::Rect eye_box = EyeBox(fit.phi, model, camera, eye);
     full.options().environment = eyeballs.options().environment = -1;
     for (const ColumbiaCrop& target : group) {
       if (&target == &*source) continue;
@@ -68,9 +122,10 @@ std::vector<RedirectColumbiaCase> EvaluateRedirectColumbia(
       const RedirectReport b = full.Redirect(redirected, camera, fit.phi, phi);
       eyeballs.options().environment = a.environment;
       full.options().environment = b.environment;
-      result.error_none = MeanAbsoluteError(source_image, real);
-      result.error_eyeballs = MeanAbsoluteError(only_eyeballs, real);
-      result.error_full = MeanAbsoluteError(redirected, real);
+      if (options.register_crops) result.shift = RegisterOnSkin(source_image, real, eye_box);
+      result.error_none = MeanAbsoluteError(Shifted(source_image, result.shift), real);
+      result.error_eyeballs = MeanAbsoluteError(Shifted(only_eyeballs, result.shift), real);
+      result.error_full = MeanAbsoluteError(Shifted(redirected, result.shift), real);
       if (on_output) on_output(result, redirected);
       cases.push_back(result);
       if (progress) progress(static_cast<int>(cases.size()), total);

@@ -101,7 +101,7 @@ GazeTarget GazeTarget::FromJson(const nlohmann::json& json) {
   Fail(ExitCode::kBadInput, "a gaze target needs one of camera, look_at, gaze, offset");
 }
 
-Parameters Retarget(const Parameters& phi, const GazeTarget& target, double eyelid_follow) {
+Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollow follow) {
   Parameters out = phi;
   const Eigen::Matrix3d rotation = phi.rotation();
   switch (target.kind) {
@@ -132,7 +132,8 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target, double eyel
   out.gaze_pitch() = std::clamp(out.gaze_pitch(), -kMaxPitch, kMaxPitch);
   out.gaze_yaw() = std::clamp(out.gaze_yaw(), -kMaxYaw, kMaxYaw);
   out.vergence() = std::clamp(out.vergence(), -2.0, kMaxVergence);
-  out.eyelid_pitch() = phi.eyelid_pitch() + eyelid_follow * (out.gaze_pitch() - phi.gaze_pitch());
+  const double change = out.gaze_pitch() - phi.gaze_pitch();
+  out.eyelid_pitch() = phi.eyelid_pitch() + (change < 0 ? follow.down : follow.up) * change;
   return out;
 }
 

@@ -50,8 +50,9 @@ TEST(GazeTargetTest, OffsetsAddAndTheEyelidsFollow) {
   const Parameters moved = Retarget(fitted, GazeTarget::Offset(10, -20));
   EXPECT_DOUBLE_EQ(moved.gaze_pitch(), fitted.gaze_pitch() + 10);
   EXPECT_DOUBLE_EQ(moved.gaze_yaw(), fitted.gaze_yaw() - 20);
-  EXPECT_DOUBLE_EQ(moved.eyelid_pitch(), fitted.eyelid_pitch() + kEyelidFollow * 10);
-  EXPECT_DOUBLE_EQ(Retarget(fitted, GazeTarget::Offset(10, 0), 1.0).eyelid_pitch(), fitted.eyelid_pitch() + 10);
+  EXPECT_NEAR(moved.eyelid_pitch(), fitted.eyelid_pitch() + EyelidFollow().up * 10, 1e-9);
+  EXPECT_NEAR(Retarget(fitted, GazeTarget::Offset(-10, 0)).eyelid_pitch(), fitted.eyelid_pitch() - EyelidFollow().down * 10, 1e-9);
+  EXPECT_NEAR(Retarget(fitted, GazeTarget::Offset(10, 0), {1.0, 1.0}).eyelid_pitch(), fitted.eyelid_pitch() + 10, 1e-9);
   EXPECT_EQ(moved.shape(), fitted.shape());
   // Beyond the eye's range the gaze stops at its limit.
   EXPECT_LE(Retarget(fitted, GazeTarget::Offset(0, 90)).gaze_yaw(), 50);
