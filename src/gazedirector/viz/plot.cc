@@ -59,7 +59,10 @@ cv::Mat LinePlot::Draw(int width, int height) const {
   for (double y = std::ceil(y0 / y_step) * y_step; y <= y1 + 1e-9; y += y_step) {
     const cv::Point2d p = to_pixel(x0, y);
     cv::line(canvas, p, to_pixel(x1, y), grey, 1);
-    cv::putText(canvas, TickLabel(y, y_step), p + cv::Point2d(-60, 4), cv::FONT_HERSHEY_SIMPLEX, 0.4, ink, 1, cv::LINE_AA);
+    // Right-aligned beside the axis, clear of the rotated axis label.
+    const std::string label = TickLabel(y, y_step);
+    const int label_width = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, nullptr).width;
+    cv::putText(canvas, label, p + cv::Point2d(-6 - label_width, 4), cv::FONT_HERSHEY_SIMPLEX, 0.4, ink, 1, cv::LINE_AA);
   }
   for (double x = std::ceil(x0 / x_step) * x_step; x <= x1 + 1e-9; x += x_step) {
     const cv::Point2d p = to_pixel(x, y0);
@@ -80,10 +83,21 @@ cv::Mat LinePlot::Draw(int width, int height) const {
       cv::line(canvas, to_pixel(s.x[i - 1], s.y[i - 1]), to_pixel(s.x[i], s.y[i]), s.colour, 2, cv::LINE_AA);
     }
   }
+  // The legend in the top right corner, as wide as its longest name, on white.
+  int name_width = 0;
+  for (const Series& s : series_) {
+    name_width = std::max(name_width, cv::getTextSize(s.name, cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, nullptr).width);
+  }
+  const int legend_x = area.x + area.width - name_width - 38;
+  if (!series_.empty()) {
+    const cv::Rect box(legend_x - 6, top + 4, name_width + 40, 18 * static_cast<int>(series_.size()) + 6);
+    cv::rectangle(canvas, box, cv::Scalar(255, 255, 255), cv::FILLED);
+    cv::rectangle(canvas, box, grey, 1);
+  }
   int legend_y = top + 18;
   for (const Series& s : series_) {
-    cv::line(canvas, {area.x + area.width - 150, legend_y - 4}, {area.x + area.width - 130, legend_y - 4}, s.colour, 2);
-    cv::putText(canvas, s.name, {area.x + area.width - 124, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, cv::LINE_AA);
+    cv::line(canvas, {legend_x, legend_y - 4}, {legend_x + 20, legend_y - 4}, s.colour, 2);
+    cv::putText(canvas, s.name, {legend_x + 26, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, cv::LINE_AA);
     legend_y += 18;
   }
   cv::putText(canvas, title_, {left, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.55, ink, 1, cv::LINE_AA);
