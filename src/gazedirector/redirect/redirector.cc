@@ -14,6 +14,10 @@ namespace {
 
 // The cornea's reflectance at normal incidence (water-like, n = 1.376).
 constexpr float kFresnel = 0.028f;
+// Photo pixels whose modelled reflection is brighter than this (luminance) are
+// not reused: the model places a highlight only roughly, and what it misses
+// would travel with the iris. Fainter reflections are subtracted instead.
+constexpr float kHighlight = 0.06f;
 
 // Projections of every posed vertex of `parts` into `camera`: the rasterized
 // attribute that says where a surface point was in the photo.
@@ -360,7 +364,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       const int source_pixel = sy * width + sx;
       if (fitted_buffers_.PartAt(source_pixel) != part) return false;
       if (source_depth.at<float>(sy, sx) < depth_needed) return false;  // lash shade
-      return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > 0.06f);  // an old highlight
+      return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > kHighlight);  // an old highlight
     };
     cv::Vec2f s = source.at<cv::Vec2f>(y, x);
     bool found = usable(s);
@@ -370,7 +374,13 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       found = usable(s);
     }
     if (!found) continue;
-    const cv::Vec3f value = Bilinear(photo, s[0], s[1]);
+    // The photo's surface without the faint reflections the chosen
+    // environment explains there: the re-posed eye gets its own below.
+    cv::Vec3f value = Bilinear(photo, s[0], s[1]);
+    if (gain > 0) {
+      const cv::Vec3f old_highlight = static_cast<float>(gain) * Bilinear(old_specular, s[0], s[1]);
+      for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
+    }
     transferred.at<cv::Vec3f>(y, x) = value;
     transfer_mask.data[pixel] = 255;
     colours.Add(value, colour, is_sclera(x, y));

@@ -39,10 +39,12 @@ const FittedPhoto& Photo() {
 }
 
 // The centroid of the darkest pixels (the irises and pupils) among the
-// eyeball pixels of `mask` in `image`.
+// eyeball pixels of `mask` in `image`, corneal highlights filled in (they move
+// less than the iris and would pull the centroid away from themselves).
 cv::Point2d DarkCentroid(const cv::Mat& image, const cv::Mat& mask) {
   cv::Mat grey;
   cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  cv::morphologyEx(grey, grey, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
   std::vector<uchar> values;
   for (int i = 0; i < grey.rows * grey.cols; ++i) {
     if (mask.data[i]) values.push_back(grey.data[i]);
@@ -68,9 +70,11 @@ TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
   cv::Mat difference;
   cv::absdiff(result, p.image, difference);
   EXPECT_EQ(cv::norm(difference, cv::NORM_INF, outside), 0.0);
-  // Only the swapped corneal highlights and the seam's blur may differ (the
-  // photo's own eye is reused right up to the lid margin).
-  EXPECT_LT(cv::mean(difference(report.region))[1], 0.5);
+  // Only the seam's blur and the swapped highlights may differ (the photo's
+  // own eye is reused right up to the lid margin, less the faint reflections
+  // the chosen environment explains there, which are then added back): 0.21
+  // levels on average; 0.29 with the photo's share faded at the mask's edge.
+  EXPECT_LT(cv::mean(difference(report.region))[1], 0.28);
 }
 
 TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
