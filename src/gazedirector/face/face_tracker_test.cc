@@ -39,6 +39,22 @@ TEST(FaceTrackerTest, FindsTheFaceInAPortraitAndNoneInACat) {
   EXPECT_TRUE(tracker.DetectFaces(cat, Camera::Default(cat.cols, cat.rows)).empty());
 }
 
+TEST(FaceTrackerTest, FindsAFaceThatHogScoresLowAsAWeakDetection) {
+  // Glasses, a frown and hair over the brows: HOG's best window scores below 0.
+  FaceTracker tracker = MakeTracker();
+  const cv::Mat photo = ReadImage(DataPath("images/d8.jpg"));
+  const std::vector<Face> faces = tracker.DetectFaces(photo, Camera::Default(photo.cols, photo.rows));
+  ASSERT_EQ(faces.size(), 1u);
+  EXPECT_LT(faces[0].confidence, 0.5);
+  // The eyes sit in the upper half of the face box, level with each other.
+  const cv::Rect2d box = faces[0].box;
+  for (int i : {36, 39, 42, 45}) {
+    EXPECT_TRUE(box.contains(cv::Point2d(faces[0].landmarks[i].x(), faces[0].landmarks[i].y()))) << i;
+    EXPECT_LT(faces[0].landmarks[i].y(), box.y + 0.55 * box.height) << i;
+  }
+  EXPECT_LT(std::abs(faces[0].landmarks[36].y() - faces[0].landmarks[45].y()), 0.1 * faces[0].InterocularDistance());
+}
+
 TEST(FaceTrackerTest, FindsEveryFaceInAGroupPhotoAndLargestPicksOne) {
   const cv::Mat group = ReadImage(DataPath("dlib-faces/bald_guys.jpg"));
   const Camera camera = Camera::Default(group.cols, group.rows);
