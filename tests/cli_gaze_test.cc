@@ -90,6 +90,27 @@ TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
   EXPECT_NE(output.find("redirected"), std::string::npos) << output;
 }
 
+TEST(CliGazeTest, RedirectColumbiaScoresOneSubjectRegisteredAndAsCut) {
+  const fs::path dir = ScratchDir("cli_redirect_columbia");
+  auto run = [&](const std::string& extra) {
+    std::string output;
+    EXPECT_EQ(RunCli("eval redirect-columbia --subjects 0007 --json --plot " + Quote(dir / "curves.png") + extra, &output), 0)
+        << output;
+    return nlohmann::json::parse(output.substr(output.find('{')));
+  };
+  const nlohmann::json registered = run(" --out-dir " + Quote(dir / "out"));
+  const nlohmann::json as_cut = run(" --no-register");
+  // Both eyes' crops at head pose 0 but the source 0V 0H one.
+  EXPECT_GE(registered["crops"].get<int>(), 30);
+  EXPECT_TRUE(registered["registered"].get<bool>());
+  EXPECT_FALSE(as_cut["registered"].get<bool>());
+  // Registering removes the crops' landmark framing from every comparison.
+  EXPECT_LT(registered["error_none"].get<double>(), as_cut["error_none"].get<double>());
+  EXPECT_LT(registered["error_full"].get<double>(), registered["error_none"].get<double>());
+  EXPECT_TRUE(fs::exists(dir / "curves.png"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "0007_2m_0P_10V_15H_L.jpg"));
+}
+
 TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   const fs::path dir = ScratchDir("cli_redirect_bad");
   std::string output;

@@ -420,7 +420,7 @@ Command RegisterEvalCommand(CLI::App& root) {
                                            "Redirection error on Columbia crops: each subject's 0V 0H crop redirected to the other gazes");
   add_columbia_options(redirect);
   redirect->add_option("--plot", options->cdf_plot, "Write the cumulative error curves here (PNG)")->capture_default_str();
-  redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c) under the name of the real crop it imitates");
+  redirect->add_option("--out-dir", options->out_dir, "Write every redirected crop (c), framed as its source (unregistered), under the name of the real crop it imitates");
   redirect->add_option("--csv", options->csv, "Write every crop's three errors here");
   redirect->add_option("--eyelid-follow-down", options->redirect.eyelid_follow.down,
                        "How far the eyelids follow a downward change of pitch (0: not at all, 1: fully)")
