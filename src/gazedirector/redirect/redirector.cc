@@ -331,6 +331,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // there is the photo's, which the rendering lacks.
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
+  cv::Mat from_depth(region.size(), CV_32FC1, cv::Scalar(0));  // how deep in the fitted opening each transferred pixel's source was
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
   // How deep inside its eye opening each pixel is (pixels from the lids), in
@@ -382,15 +383,20 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
     }
     transferred.at<cv::Vec3f>(y, x) = value;
+    from_depth.at<float>(y, x) = source_depth.at<float>(static_cast<int>(std::lround(s[1])), static_cast<int>(std::lround(s[0])));
     transfer_mask.data[pixel] = 255;
     colours.Add(value, colour, is_sclera(x, y));
   }
   colours.Finish();
-  // Dark photo sclera belongs right at the new lids; deeper in the new
-  // opening it would draw streaks across the white, which the rendering fills.
+  // Dark photo sclera belongs right at the new lids; dragged deeper into the
+  // new opening it would draw streaks across the white, which the rendering
+  // fills. Dark "sclera" that stays as deep as it was is left alone: it is
+  // where the fit's iris was smaller than the photo's, and an eye that barely
+  // moves must keep its iris.
   for (int pixel : target_buffers_.foreground) {
     const int x = pixel % width, y = pixel / width;
     if (!transfer_mask.data[pixel] || !is_sclera(x, y) || target_depth.at<float>(y, x) <= margin_px) continue;
+    if (target_depth.at<float>(y, x) <= from_depth.at<float>(y, x) + margin_px) continue;
     if (Luminance(transferred.at<cv::Vec3f>(y, x)) < colours.dark_sclera()) transfer_mask.data[pixel] = 0;
   }
   // The photo's share, feathered across the boundary with the rendering only:
