@@ -72,9 +72,10 @@ TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
   EXPECT_EQ(cv::norm(difference, cv::NORM_INF, outside), 0.0);
   // Only the seam's blur and the swapped highlights may differ (the photo's
   // own eye is reused right up to the lid margin, less the faint reflections
-  // the chosen environment explains there, which are then added back): 0.21
-  // levels on average; 0.29 with the photo's share faded at the mask's edge.
-  EXPECT_LT(cv::mean(difference(report.region))[1], 0.28);
+  // the chosen environment explains there, which are then added back): 0.11
+  // levels on average; 0.29 with the photo's share faded at the mask's edge,
+  // the highlights cut out and its darker sclera replaced.
+  EXPECT_LT(cv::mean(difference(report.region))[1], 0.2);
 }
 
 TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
