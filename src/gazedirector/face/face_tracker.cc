@@ -28,9 +28,11 @@ cv::Mat ToGray(const cv::Mat& bgr, cv::Mat& gray) {
   return gray;
 }
 
-}  // namespace
-
+// A still photo with no face above HOG's usual threshold (0) takes its best
+// window down to this score (see DetectFaces).
 constexpr double kFallbackThreshold = -0.6;
+
+}  // namespace
 
 double StillDetectionScale(int width, int height) {
   return std::clamp(2000.0 / std::max(width, height), 0.25, 2.0);

@@ -23,10 +23,14 @@ std::vector<cv::Mat> ReadFrames(const std::string& video, int count) {
   return frames;
 }
 
+// The faces a fresh tracker finds in one of the real photos, with the default camera.
+std::vector<Face> FacesIn(const std::string& photo) {
+  const cv::Mat image = ReadImage(DataPath(photo));
+  return MakeTracker().DetectFaces(image, Camera::Default(image.cols, image.rows));
+}
+
 TEST(FaceTrackerTest, FindsTheFaceInAPortraitAndNoneInACat) {
-  FaceTracker tracker = MakeTracker();
-  const cv::Mat portrait = ReadImage(DataPath("images/s42.jpg"));
-  const std::vector<Face> faces = tracker.DetectFaces(portrait, Camera::Default(portrait.cols, portrait.rows));
+  const std::vector<Face> faces = FacesIn("images/s42.jpg");
   ASSERT_EQ(faces.size(), 1u);
   EXPECT_GT(faces[0].confidence, 0.9);
   EXPECT_GT(faces[0].InterocularDistance(), 60);
@@ -35,15 +39,12 @@ TEST(FaceTrackerTest, FindsTheFaceInAPortraitAndNoneInACat) {
   EXPECT_LT(faces[0].pose.translation.z(), 700);
   EXPECT_GT(faces[0].pose.rotation(2, 2), std::cos(0.35));
 
-  const cv::Mat cat = ReadImage(DataPath("images/s39.jpg"));
-  EXPECT_TRUE(tracker.DetectFaces(cat, Camera::Default(cat.cols, cat.rows)).empty());
+  EXPECT_TRUE(FacesIn("images/s39.jpg").empty());
 }
 
 TEST(FaceTrackerTest, FindsAFaceThatHogScoresLowAsAWeakDetection) {
   // Glasses, a frown and hair over the brows: HOG's best window scores below 0.
-  FaceTracker tracker = MakeTracker();
-  const cv::Mat photo = ReadImage(DataPath("images/d8.jpg"));
-  const std::vector<Face> faces = tracker.DetectFaces(photo, Camera::Default(photo.cols, photo.rows));
+  const std::vector<Face> faces = FacesIn("images/d8.jpg");
   ASSERT_EQ(faces.size(), 1u);
   EXPECT_LT(faces[0].confidence, 0.5);
   // The eyes sit in the upper half of the face box, level with each other.

@@ -69,6 +69,11 @@ cv::Vec3f RenderedBgr(const RenderBuffers& buffers, std::size_t i) {
   return {buffers.colour(row, 2), buffers.colour(row, 1), buffers.colour(row, 0)};
 }
 
+// The pixel a sub-pixel position falls in.
+cv::Point NearestPixel(const cv::Vec2f& position) {
+  return {static_cast<int>(std::lround(position[0])), static_cast<int>(std::lround(position[1]))};
+}
+
 float Luminance(const cv::Vec3f& bgr) { return 0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]; }
 
 cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
@@ -360,12 +365,11 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     // (The iris is dark itself: there the lashes' shade does no harm.)
     const float depth_needed = is_sclera(x, y) ? std::min(target_depth.at<float>(y, x), margin_px) - 0.5f : -1.0f;
     auto usable = [&](const cv::Vec2f& s) {
-      const int sx = static_cast<int>(std::lround(s[0])), sy = static_cast<int>(std::lround(s[1]));
-      if (sx < 0 || sy < 0 || sx >= region.width || sy >= region.height) return false;
-      const int source_pixel = sy * width + sx;
-      if (fitted_buffers_.PartAt(source_pixel) != part) return false;
-      if (source_depth.at<float>(sy, sx) < depth_needed) return false;  // lash shade
-      return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(sy, sx)) > kHighlight);  // an old highlight
+      const cv::Point at = NearestPixel(s);
+      if (!cv::Rect(0, 0, region.width, region.height).contains(at)) return false;
+      if (fitted_buffers_.PartAt(at.y * width + at.x) != part) return false;
+      if (source_depth.at<float>(at) < depth_needed) return false;  // lash shade
+      return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(at)) > kHighlight);  // an old highlight
     };
     cv::Vec2f s = source.at<cv::Vec2f>(y, x);
     bool found = usable(s);
@@ -383,7 +387,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
     }
     transferred.at<cv::Vec3f>(y, x) = value;
-    from_depth.at<float>(y, x) = source_depth.at<float>(static_cast<int>(std::lround(s[1])), static_cast<int>(std::lround(s[0])));
+    from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
     transfer_mask.data[pixel] = 255;
     colours.Add(value, colour, is_sclera(x, y));
   }
@@ -402,13 +406,13 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // The photo's share, feathered across the boundary with the rendering only:
   // blurred within the eyeball mask (normalised), so that the mask's own edge,
   // where the photo continues outside, does not fade into the rendering.
-  cv::Mat transfer_weight, seam_alpha, eyeball_share;
+  cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
   transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
+  eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
   cv::GaussianBlur(transfer_weight, transfer_weight, cv::Size(0, 0), 0.8);
-  eyeball_mask.convertTo(seam_alpha, CV_32F, 1.0 / 255);
-  cv::GaussianBlur(seam_alpha, eyeball_share, cv::Size(0, 0), 0.8);
+  cv::GaussianBlur(eyeball_weight, eyeball_share, cv::Size(0, 0), 0.8);
   transfer_weight /= cv::max(eyeball_share, 1e-3f);
-  cv::GaussianBlur(seam_alpha, seam_alpha, cv::Size(0, 0), std::max(0.5, options_.seam_blur * interocular_px));
+  cv::GaussianBlur(eyeball_weight, seam_alpha, cv::Size(0, 0), std::max(0.5, options_.seam_blur * interocular_px));
 
   cv::Mat eyeball_layer = warped.clone(), out = warped.clone();
   for (int y = 0; y < region.height; ++y) {
