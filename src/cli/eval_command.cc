@@ -47,21 +47,23 @@ struct EvalOptions {
 };
 
 // Mean and median absolute yaw and pitch errors of a set of estimates
-// (crops or photos).
+// (crops or photos) in one frame.
 struct ErrorSummary {
   int count = 0;
   double yaw_mean = 0, yaw_median = 0, pitch_mean = 0, pitch_median = 0;
-  double zero_yaw_mean = 0, zero_pitch_mean = 0;  // the always-straight-ahead predictor
+  // the always-zero predictor: straight ahead in the head, or into the camera
+  double zero_yaw_mean = 0, zero_pitch_mean = 0;
 };
 
 template <typename Estimate>
-ErrorSummary Summarise(const std::vector<const Estimate*>& estimates) {
+ErrorSummary Summarise(const std::vector<const Estimate*>& estimates, GazeFrame frame) {
   std::vector<double> yaw, pitch, zero_yaw, zero_pitch;
   for (const Estimate* estimate : estimates) {
-    yaw.push_back(estimate->yaw_error);
-    pitch.push_back(estimate->pitch_error);
-    zero_yaw.push_back(std::abs(estimate->crop.horizontal));
-    zero_pitch.push_back(std::abs(estimate->crop.vertical));
+    yaw.push_back(estimate->Reading(frame).yaw_error);
+    pitch.push_back(estimate->Reading(frame).pitch_error);
+    const Eigen::Vector2d label = estimate->crop.Label(frame);
+    zero_yaw.push_back(std::abs(label.y()));
+    zero_pitch.push_back(std::abs(label.x()));
   }
   return {static_cast<int>(estimates.size()), Mean(yaw), Median(yaw), Mean(pitch), Median(pitch), Mean(zero_yaw), Mean(zero_pitch)};
 }
@@ -73,12 +75,12 @@ struct PoseSummaries {
 };
 
 template <typename Estimate>
-PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates) {
+PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates, GazeFrame frame) {
   std::map<int, std::vector<const Estimate*>> by_pose;
   std::vector<const Estimate*> all;
   for (const Estimate& estimate : estimates) by_pose[estimate.crop.head_pose].push_back(&estimate), all.push_back(&estimate);
-  PoseSummaries summaries{Summarise(all), {}};
-  for (const auto& [pose, subset] : by_pose) summaries.by_pose[pose] = Summarise(subset);
+  PoseSummaries summaries{Summarise(all, frame), {}};
+  for (const auto& [pose, subset] : by_pose) summaries.by_pose[pose] = Summarise(subset, frame);
   return summaries;
 }
 
@@ -173,34 +175,40 @@ int RunColumbiaEval(const EvalOptions& options) {
   progress.Finish();
 
   const std::vector<ColumbiaPhoto> photos = CombineEyes(fits);
-  const PoseSummaries by_photo = SummariseByPose(photos);
-  const PoseSummaries by_crop = SummariseByPose(fits);
+  const PoseSummaries by_photo = SummariseByPose(photos, GazeFrame::kHead);
+  const PoseSummaries by_crop = SummariseByPose(fits, GazeFrame::kHead);
+  const PoseSummaries by_photo_camera = SummariseByPose(photos, GazeFrame::kCamera);
   const double fits_per_s = fits.size() / seconds;
 
   if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
   if (!options.csv.empty()) {
-    CsvWriter csv(options.csv, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "pitch", "yaw",
-                                "pitch_error", "yaw_error", "head_pitch", "head_yaw", "camera_pitch", "camera_yaw",
-                                "seconds", "face_pitch", "face_yaw", "energy"});
+    CsvWriter csv(options.csv, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "head_label_pitch",
+                                "head_label_yaw", "pitch", "yaw", "pitch_error", "yaw_error", "head_pitch", "head_yaw",
+                                "camera_pitch", "camera_yaw", "camera_pitch_error", "camera_yaw_error", "seconds",
+                                "face_pitch", "face_yaw", "face_camera_pitch", "face_camera_yaw", "energy"});
     std::map<std::string, const ColumbiaPhoto*> photo_of;
     for (const ColumbiaPhoto& photo : photos) photo_of[photo.crop.Photo()] = &photo;
+    auto number = [](double value) { return fmt::format("{:.3f}", value); };
     for (const ColumbiaFit& fit : fits) {
       const ColumbiaPhoto& photo = *photo_of.at(fit.crop.Photo());
+      const Eigen::Vector2d head_label = fit.crop.Label(GazeFrame::kHead);
       csv.AddRow({fit.crop.path.filename().string(), fit.crop.subject, std::to_string(fit.crop.head_pose),
                   std::to_string(fit.crop.vertical), std::to_string(fit.crop.horizontal), std::string(1, fit.crop.eye),
-                  fmt::format("{:.3f}", fit.pitch), fmt::format("{:.3f}", fit.yaw), fmt::format("{:.3f}", fit.pitch_error),
-                  fmt::format("{:.3f}", fit.yaw_error), fmt::format("{:.3f}", fit.head_pitch),
-                  fmt::format("{:.3f}", fit.head_yaw), fmt::format("{:.3f}", fit.camera_pitch),
-                  fmt::format("{:.3f}", fit.camera_yaw), fmt::format("{:.3f}", fit.seconds),
-                  fmt::format("{:.3f}", photo.pitch), fmt::format("{:.3f}", photo.yaw), fmt::format("{:.6f}", fit.energy)});
+                  number(head_label.x()), number(head_label.y()), number(fit.in_head.pitch), number(fit.in_head.yaw),
+                  number(fit.in_head.pitch_error), number(fit.in_head.yaw_error), number(fit.head_pitch),
+                  number(fit.head_yaw), number(fit.in_camera.pitch), number(fit.in_camera.yaw),
+                  number(fit.in_camera.pitch_error), number(fit.in_camera.yaw_error), number(fit.seconds),
+                  number(photo.in_head.pitch), number(photo.in_head.yaw), number(photo.in_camera.pitch),
+                  number(photo.in_camera.yaw), fmt::format("{:.6f}", fit.energy)});
     }
     csv.Finish();
   }
   if (options.json) {
-    // The headline figures are the faces' gazes (both eyes), as the paper's.
+    // The headline figures are the faces' gazes (both eyes) relative to the head, as the paper's.
     nlohmann::json result = ToJson(by_photo.all);
     result["photos"] = photos.size();
     result["one_eye"] = ToJson(by_crop.all);
+    result["camera_frame"] = ToJson(by_photo_camera.all);
     result["fits_per_s"] = RoundTo(fits_per_s, 2);
     result["threads"] = options.threads;
     result["head_pose"] = options.known_head_pose ? "known (P from the file name)" : "estimated";
@@ -208,6 +216,7 @@ int RunColumbiaEval(const EvalOptions& options) {
       nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
       entry = ToJson(summary);
       entry["one_eye"] = ToJson(by_crop.by_pose.at(pose));
+      entry["camera_frame"] = ToJson(by_photo_camera.by_pose.at(pose));
     }
     fmt::print("{}\n", result.dump());
     return 0;
@@ -222,13 +231,16 @@ int RunColumbiaEval(const EvalOptions& options) {
     for (const auto& [pose, summary] : summaries.by_pose) row(std::to_string(pose), summary);
     row("all", summaries.all);
   };
-  fmt::print("gaze error relative to the head on {} photos ({} crops) in {} (degrees)\n", photos.size(), fits.size(),
-             dir.string());
-  fmt::print("the face's gaze: the mean of both eyes' fits where both crops are there\n");
+  fmt::print("gaze error on {} photos ({} crops) in {} (degrees)\n", photos.size(), fits.size(), dir.string());
+  fmt::print("labels: relative to the camera (0V 0H looks into the lens at every head pose); in the head's frame\n"
+             "they are turned by the head's yaw, -P\n");
+  fmt::print("relative to the head, the face's gaze: the mean of both eyes' fits where both crops are there\n");
   table(by_photo, "photos");
-  fmt::print("one eye: each crop on its own\n");
+  fmt::print("relative to the head, one eye: each crop on its own\n");
   table(by_crop, "crops");
-  fmt::print("head pose: {}\n", options.known_head_pose ? "known (P from the file names)" : "estimated from each crop");
+  fmt::print("relative to the camera, the face's gaze (zero: looking into the lens)\n");
+  table(by_photo_camera, "photos");
+  fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)" : "estimated from each crop");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
   if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
   return 0;
@@ -413,7 +425,7 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_flag("--known-head-pose", options->known_head_pose,
-                     "Give the fitter the head's yaw from the file name (P) instead of estimating it from one eye");
+                     "Give the fitter the head's yaw from the file name (-P) instead of estimating it from one eye");
   AddCommonOptions(*columbia, options->common);
 
   CLI::App* redirect = app->add_subcommand("redirect-columbia",

@@ -21,6 +21,17 @@ namespace fs = std::filesystem;
 
 int ColumbiaCrop::ModelEye() const { return eye == 'L' ? kRightEye : kLeftEye; }
 
+double ColumbiaCrop::HeadYaw() const { return -head_pose; }
+
+Eigen::Vector2d ColumbiaCrop::Label(GazeFrame frame) const {
+  if (frame == GazeFrame::kCamera) return Eigen::Vector2d(vertical, horizontal);
+  const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(HeadYaw()), 0));
+  const Eigen::Vector3d gaze = head.transpose() * EyeRegionModel::GazeInHead(vertical, horizontal);
+  // GazeInHead inverted: pitch up +, yaw toward +x.
+  return Eigen::Vector2d(RadToDeg(std::asin(std::clamp(-gaze.y(), -1.0, 1.0))),
+                         RadToDeg(std::atan2(gaze.x(), -gaze.z())));
+}
+
 std::string ColumbiaCrop::Photo() const {
   const std::string name = path.filename().string();
   return name.substr(0, name.size() - std::string("_L.jpg").size());
@@ -59,22 +70,32 @@ double GazeAngleBetween(double pitch_a, double yaw_a, double pitch_b, double yaw
   return RadToDeg(std::acos(std::clamp(a.dot(b), -1.0, 1.0)));
 }
 
+namespace {
+
+GazeReading Read(double pitch, double yaw, const Eigen::Vector2d& label) {
+  return {pitch, yaw, std::abs(pitch - label.x()), std::abs(yaw - label.y())};
+}
+
+}  // namespace
+
 std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits) {
   std::vector<ColumbiaPhoto> photos;
   std::map<std::string, std::size_t> index_of_photo;
   for (const ColumbiaFit& fit : fits) {
     const auto [it, is_new] = index_of_photo.emplace(fit.crop.Photo(), photos.size());
-    if (is_new) photos.push_back({fit.crop});
+    if (is_new) photos.emplace_back().crop = fit.crop;
     ColumbiaPhoto& photo = photos[it->second];
-    photo.pitch += fit.pitch;
-    photo.yaw += fit.yaw;
+    for (GazeFrame frame : {GazeFrame::kHead, GazeFrame::kCamera}) {
+      GazeReading& sum = frame == GazeFrame::kHead ? photo.in_head : photo.in_camera;
+      sum.pitch += fit.Reading(frame).pitch;
+      sum.yaw += fit.Reading(frame).yaw;
+    }
     ++photo.eyes;
   }
   for (ColumbiaPhoto& photo : photos) {
-    photo.pitch /= photo.eyes;
-    photo.yaw /= photo.eyes;
-    photo.pitch_error = std::abs(photo.pitch - photo.crop.vertical);
-    photo.yaw_error = std::abs(photo.yaw - photo.crop.horizontal);
+    photo.in_head = Read(photo.in_head.pitch / photo.eyes, photo.in_head.yaw / photo.eyes, photo.crop.Label(GazeFrame::kHead));
+    photo.in_camera = Read(photo.in_camera.pitch / photo.eyes, photo.in_camera.yaw / photo.eyes,
+                           photo.crop.Label(GazeFrame::kCamera));
   }
   return photos;
 }
@@ -101,26 +122,24 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
         Timer timer;
         const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, 0.76,
-                                                      known_head_pose ? crop.head_pose : 0.0);
+                                                      known_head_pose ? crop.HeadYaw() : 0.0);
         ColumbiaFit& fit = fits[i];
         fit.crop = crop;
         fit.seconds = timer.Seconds();
         fit.energy = result.terms.total();
-        fit.pitch = result.phi.gaze_pitch();
-        fit.yaw = EyeRegionModel::EyeYaw(result.phi, crop.ModelEye());
-        fit.head_pitch = result.phi.rotation_deg().x();
-        fit.head_yaw = result.phi.rotation_deg().y();
+        fit.in_head = Read(result.phi.gaze_pitch(), EyeRegionModel::EyeYaw(result.phi, crop.ModelEye()),
+                           crop.Label(GazeFrame::kHead));
         const EyeGaze eye_gaze = EyeGazes(result.phi)[crop.ModelEye()];
         const Eigen::Vector2d angles = GazeAngles(eye_gaze.gaze) - GazeAngles(-eye_gaze.centre);
-        fit.camera_pitch = -RadToDeg(angles.y());
-        fit.camera_yaw = RadToDeg(angles.x());
-        fit.pitch_error = std::abs(fit.pitch - crop.vertical);
-        fit.yaw_error = std::abs(fit.yaw - crop.horizontal);
+        fit.in_camera = Read(-RadToDeg(angles.y()), RadToDeg(angles.x()), crop.Label(GazeFrame::kCamera));
+        fit.head_pitch = result.phi.rotation_deg().x();
+        fit.head_yaw = result.phi.rotation_deg().y();
+        const Eigen::Vector2d head_label = crop.Label(GazeFrame::kHead);
         for (const FitIteration& iterate : result.history) {
           fit.energy_by_iteration.push_back(iterate.terms.image);
           fit.gaze_error_by_iteration.push_back(GazeAngleBetween(iterate.phi.gaze_pitch(),
                                                                  EyeRegionModel::EyeYaw(iterate.phi, crop.ModelEye()),
-                                                                 crop.vertical, crop.horizontal));
+                                                                 head_label.x(), head_label.y()));
         }
         const int finished = ++done;
         if (progress) {

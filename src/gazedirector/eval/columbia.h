@@ -6,11 +6,21 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "gazedirector/fit/fitter.h"
 
 namespace gazedirector {
 
+// The frame a gaze direction is given in: the head's (the eyeball's pitch and
+// yaw in the eye region, the model's convention) or the camera's (relative to
+// the line from the eye to the camera: up +, toward image right +).
+enum class GazeFrame { kHead, kCamera };
+
 // One crop of the Columbia Gaze data set, named SSSS_2m_{P}P_{V}V_{H}H_{E}.jpg.
+// Its labels V and H are relative to the camera: 0V 0H looks into the lens at
+// every head pose (the data set's "gaze locking" photos), so at P = +-30 a
+// 0V 0H eye is turned 30 degrees in the head.
 struct ColumbiaCrop {
   std::filesystem::path path;
   std::string subject;
@@ -19,6 +29,13 @@ struct ColumbiaCrop {
   int horizontal = 0;  // H: gaze target azimuth, degrees (toward image right at P = 0)
   char eye = 'L';     // L: the image-left eye (the subject's right); R: the subject's left
   int ModelEye() const;
+  // The head's yaw in the camera's frame (the model's rotation_deg().y()):
+  // the camera sat P degrees around the head, so the head is turned by -P
+  // (fits held at -P explain the +-30 crops better than at +P in 369 of 499).
+  double HeadYaw() const;
+  // The labelled gaze (pitch, yaw in degrees) in `frame`; in the head's frame
+  // it is the label's direction turned by the head's yaw.
+  Eigen::Vector2d Label(GazeFrame frame) const;
   // The photo both eyes' crops come from: the file name without _L/_R.
   std::string Photo() const;
 };
@@ -28,20 +45,23 @@ bool ParseColumbiaName(const std::filesystem::path& path, ColumbiaCrop& crop);
 // Every crop in `dir`, sorted by name.
 std::vector<ColumbiaCrop> ListColumbia(const std::filesystem::path& dir);
 
-// The fit of one crop, compared with its label. Gaze relative to the head:
-// the model's eyeball pitch and yaw in its eye-region frame, in degrees.
+// A gaze direction in one frame and its absolute error against the label, degrees.
+struct GazeReading {
+  double pitch = 0, yaw = 0;
+  double pitch_error = 0, yaw_error = 0;
+};
+
+// The fit of one crop, compared with its label in both frames.
 struct ColumbiaFit {
   ColumbiaCrop crop;
-  double pitch = 0, yaw = 0;
-  double pitch_error = 0, yaw_error = 0;  // absolute, degrees
-  double head_pitch = 0, head_yaw = 0;    // the eye region's fitted rotation, degrees
-  // The gaze in the camera's frame, relative to the line from the eye to
-  // the camera (degrees; up +, toward image right +).
-  double camera_pitch = 0, camera_yaw = 0;
+  GazeReading in_head, in_camera;
+  const GazeReading& Reading(GazeFrame frame) const { return frame == GazeFrame::kHead ? in_head : in_camera; }
+  double head_pitch = 0, head_yaw = 0;  // the eye region's fitted rotation, degrees
   double energy = 0;  // the fit's final E
   double seconds = 0;
   // Per Gauss-Newton iterate (0: the start): photometric energy and gaze
-  // error (degrees, the angle between estimated and labelled directions).
+  // error in the head's frame (degrees, the angle between estimated and
+  // labelled directions).
   std::vector<double> energy_by_iteration;
   std::vector<double> gaze_error_by_iteration;
 };
@@ -53,8 +73,8 @@ struct ColumbiaFit {
 struct ColumbiaPhoto {
   ColumbiaCrop crop;  // the first eye's crop: the photo's labels
   int eyes = 0;       // 1 or 2
-  double pitch = 0, yaw = 0;
-  double pitch_error = 0, yaw_error = 0;  // absolute, degrees
+  GazeReading in_head, in_camera;
+  const GazeReading& Reading(GazeFrame frame) const { return frame == GazeFrame::kHead ? in_head : in_camera; }
 };
 
 // One entry per photo, in the order of the fits.
@@ -62,9 +82,9 @@ std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits);
 
 // Fits every crop with `threads` fitters working side by side; `progress`
 // is called after each crop.
-// With `known_head_pose`, the eye region's yaw is the crop's P and held
-// there (the camera's position around the head, from the file name), as when
-// a face tracker supplies the head pose; otherwise it is estimated.
+// With `known_head_pose`, the eye region's yaw is the crop's HeadYaw() and
+// held there (from P in the file name), as when a face tracker supplies the
+// head pose; otherwise it is estimated.
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
                                      const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int done)>& progress = nullptr);
