@@ -211,7 +211,7 @@ int RunColumbiaEval(const EvalOptions& options) {
     result["camera_frame"] = ToJson(by_photo_camera.all);
     result["fits_per_s"] = RoundTo(fits_per_s, 2);
     result["threads"] = options.threads;
-    result["head_pose"] = options.known_head_pose ? "known (P from the file name)" : "estimated";
+    result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
     for (const auto& [pose, summary] : by_photo.by_pose) {
       nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
       entry = ToJson(summary);

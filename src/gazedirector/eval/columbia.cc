@@ -12,6 +12,7 @@
 
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/geometry/rotation.h"
+#include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
 #include "gazedirector/util/timer.h"
@@ -26,10 +27,7 @@ double ColumbiaCrop::HeadYaw() const { return -head_pose; }
 Eigen::Vector2d ColumbiaCrop::Label(GazeFrame frame) const {
   if (frame == GazeFrame::kCamera) return Eigen::Vector2d(vertical, horizontal);
   const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(HeadYaw()), 0));
-  const Eigen::Vector3d gaze = head.transpose() * EyeRegionModel::GazeInHead(vertical, horizontal);
-  // GazeInHead inverted: pitch up +, yaw toward +x.
-  return Eigen::Vector2d(RadToDeg(std::asin(std::clamp(-gaze.y(), -1.0, 1.0))),
-                         RadToDeg(std::atan2(gaze.x(), -gaze.z())));
+  return PitchYawOf(head.transpose() * EyeRegionModel::GazeInHead(vertical, horizontal));
 }
 
 std::string ColumbiaCrop::Photo() const {
@@ -85,11 +83,8 @@ std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits) {
     const auto [it, is_new] = index_of_photo.emplace(fit.crop.Photo(), photos.size());
     if (is_new) photos.emplace_back().crop = fit.crop;
     ColumbiaPhoto& photo = photos[it->second];
-    for (GazeFrame frame : {GazeFrame::kHead, GazeFrame::kCamera}) {
-      GazeReading& sum = frame == GazeFrame::kHead ? photo.in_head : photo.in_camera;
-      sum.pitch += fit.Reading(frame).pitch;
-      sum.yaw += fit.Reading(frame).yaw;
-    }
+    photo.in_head.pitch += fit.in_head.pitch, photo.in_head.yaw += fit.in_head.yaw;
+    photo.in_camera.pitch += fit.in_camera.pitch, photo.in_camera.yaw += fit.in_camera.yaw;
     ++photo.eyes;
   }
   for (ColumbiaPhoto& photo : photos) {

@@ -58,11 +58,8 @@ cv::Rect EyeBox(const Parameters& phi, std::shared_ptr<const EyeRegionModel> mod
   renderer.set_eyes(eye == kLeftEye, eye == kRightEye);
   RenderBuffers buffers;
   renderer.Render(phi, camera, buffers);
-  std::vector<cv::Point> eyeball;
-  for (int pixel : buffers.foreground) {
-    if (IsEyeball(buffers.PartAt(pixel))) eyeball.emplace_back(pixel % buffers.width(), pixel / buffers.width());
-  }
-  if (eyeball.empty()) return {};
+  const cv::Mat eyeball = buffers.EyeballMaskImage();
+  if (cv::countNonZero(eyeball) == 0) return {};
   const cv::Rect box = cv::boundingRect(eyeball);
   const int side = box.width / 8, above = box.height * 3 / 4, below = box.height / 2;
   return {box.x - side, box.y - above, box.width + 2 * side, box.height + above + below};

@@ -343,12 +343,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // the photo's fit and in the re-posed model. Surface the photo showed at
   // its lid margin carries the lashes' shade: it may land near the new
   // margin, not deep in the new opening, where it would draw dark streaks.
-  cv::Mat fitted_eyeball_mask(region.size(), CV_8UC1, cv::Scalar(0));
-  for (int pixel : fitted_buffers_.foreground) {
-    if (IsEyeball(fitted_buffers_.PartAt(pixel))) fitted_eyeball_mask.data[pixel] = 255;
-  }
   cv::Mat source_depth, target_depth;
-  cv::distanceTransform(fitted_eyeball_mask, source_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::distanceTransform(fitted_buffers_.EyeballMaskImage(), source_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));

@@ -45,6 +45,14 @@ cv::Mat RenderBuffers::MaskImage() const {
   return mask;
 }
 
+cv::Mat RenderBuffers::EyeballMaskImage() const {
+  cv::Mat mask(height(), width(), CV_8UC1, cv::Scalar(0));
+  for (int pixel : foreground) {
+    if (IsEyeball(PartAt(pixel))) mask.data[pixel] = 255;
+  }
+  return mask;
+}
+
 cv::Mat RenderBuffers::PartImage() const {
   cv::Mat parts(height(), width(), CV_8UC1, cv::Scalar(255));
   for (int pixel : foreground) parts.data[pixel] = static_cast<uchar>(PartAt(pixel));

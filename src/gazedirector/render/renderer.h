@@ -37,6 +37,7 @@ struct RenderBuffers {
   cv::Mat ColourImage(const cv::Mat& background = cv::Mat()) const;
   cv::Mat MaskImage() const;
   cv::Mat PartImage() const;
+  cv::Mat EyeballMaskImage() const;  // 255 where an eyeball shows
 };
 
 // Shading constants of the eyeball: ambient occlusion under the lids.
