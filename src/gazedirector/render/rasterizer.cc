@@ -209,6 +209,28 @@ void VisibilityBuffer::DrawOne(const ScreenVertex* vertices, const Eigen::Vector
 }
 
 #if defined(GAZEDIRECTOR_AVX512)
+namespace {
+
+// Permutations that split 48 consecutive ints (16 triangles' corners) into
+// each corner's 16: kEveryThird[k][0] picks ints 3i + k below 32 from the first
+// two vectors, kEveryThird[k][1] keeps those and adds the rest from the third.
+struct EveryThird {
+  alignas(64) int32_t indices[3][2][16];
+  constexpr EveryThird() : indices{} {
+    for (int k = 0; k < 3; ++k) {
+      for (int i = 0; i < 16; ++i) {
+        const int source = 3 * i + k;
+        indices[k][0][i] = source < 32 ? source : 0;
+        indices[k][1][i] = source < 32 ? i : 16 + source - 32;
+      }
+    }
+  }
+};
+constexpr EveryThird kEveryThirdTable;
+constexpr const auto& kEveryThird = kEveryThirdTable.indices;
+
+}  // namespace
+
 // Sixteen triangles at a time: gather their vertices, cull and clip them and
 // set up their edge functions in vector registers; fill the survivors one by
 // one. Large triangles (rare) take the scalar path.
@@ -217,8 +239,7 @@ void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Ve
   static_assert(sizeof(ScreenVertex) == 12 && sizeof(Eigen::Vector3i) == 12);
   const int* triangle_ints = reinterpret_cast<const int*>(triangles);
   const int* vertex_ints = reinterpret_cast<const int*>(vertices);
-  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  const __m512i three = _mm512_set1_epi32(3), one = _mm512_set1_epi32(1), zero = _mm512_setzero_si512();
+  const __m512i three = _mm512_set1_epi32(3), zero = _mm512_setzero_si512();
   const __m512i left = _mm512_set1_epi32(clip[0] * kOne), top = _mm512_set1_epi32(clip[1] * kOne);
   const __m512i right = _mm512_set1_epi32(clip[2] * kOne), bottom = _mm512_set1_epi32(clip[3] * kOne);
   const __m512i clip_x0 = _mm512_set1_epi32(clip[0]), clip_y0 = _mm512_set1_epi32(clip[1]);
@@ -233,19 +254,26 @@ void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Ve
 
   for (int first = 0; first < num_triangles; first += 16) {
     const __mmask16 valid = static_cast<__mmask16>(num_triangles - first >= 16 ? 0xFFFF : (1u << (num_triangles - first)) - 1);
-    const __m512i base = _mm512_mullo_epi32(_mm512_add_epi32(_mm512_set1_epi32(first), lanes), three);
-    const __m512i ia = _mm512_mullo_epi32(_mm512_mask_i32gather_epi32(zero, valid, base, triangle_ints, 4), three);
-    const __m512i ib = _mm512_mullo_epi32(
-        _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(base, one), triangle_ints, 4), three);
-    const __m512i ic = _mm512_mullo_epi32(
-        _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(base, _mm512_set1_epi32(2)), triangle_ints, 4), three);
+    // The 48 vertex indices of these triangles, loaded and split by corner.
+    const int* batch = triangle_ints + 3 * first;
+    const int remaining = 3 * (num_triangles - first);
+    auto load = [&](int part) {
+      const int n = std::clamp(remaining - 16 * part, 0, 16);
+      return _mm512_maskz_loadu_epi32(static_cast<__mmask16>(n == 16 ? 0xFFFF : (1u << n) - 1), batch + 16 * part);
+    };
+    const __m512i first16 = load(0), second16 = load(1), third16 = load(2);
+    auto corner = [&](int k) {
+      const __m512i early = _mm512_permutex2var_epi32(first16, _mm512_load_si512(kEveryThird[k][0]), second16);
+      return _mm512_mullo_epi32(_mm512_permutex2var_epi32(early, _mm512_load_si512(kEveryThird[k][1]), third16), three);
+    };
+    const __m512i ia = corner(0), ib = corner(1), ic = corner(2);
+    const __m512i one = _mm512_set1_epi32(1), two = _mm512_set1_epi32(2);
     const __m512i ax = _mm512_mask_i32gather_epi32(zero, valid, ia, vertex_ints, 4);
     const __m512i ay = _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ia, one), vertex_ints, 4);
     const __m512i bx = _mm512_mask_i32gather_epi32(zero, valid, ib, vertex_ints, 4);
     const __m512i by = _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ib, one), vertex_ints, 4);
     const __m512i cx = _mm512_mask_i32gather_epi32(zero, valid, ic, vertex_ints, 4);
     const __m512i cy = _mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ic, one), vertex_ints, 4);
-    const __m512i two = _mm512_set1_epi32(2);
     const __m512 az = _mm512_castsi512_ps(_mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ia, two), vertex_ints, 4));
     const __m512 bz = _mm512_castsi512_ps(_mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ib, two), vertex_ints, 4));
     const __m512 cz = _mm512_castsi512_ps(_mm512_mask_i32gather_epi32(zero, valid, _mm512_add_epi32(ic, two), vertex_ints, 4));
@@ -337,7 +365,19 @@ void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Ve
 void VisibilityBuffer::CollectCovered(std::vector<int>& pixels) const {
   pixels.resize(static_cast<std::size_t>(size()));
   int count = 0;
-  for (int i = 0; i < size(); ++i) {
+  int i = 0;
+#if defined(GAZEDIRECTOR_AVX512)
+  // Sixteen pixels at a time, compressed in a register (compressing straight
+  // to memory is microcoded and slow on AMD).
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  for (; i + 16 <= size(); i += 16) {
+    const __mmask16 covered = _mm512_cmpge_epi32_mask(_mm512_loadu_si512(triangle_.data() + i), _mm512_setzero_si512());
+    const __m512i indices = _mm512_add_epi32(_mm512_set1_epi32(i), lanes);
+    _mm512_storeu_si512(pixels.data() + count, _mm512_maskz_compress_epi32(covered, indices));
+    count += __builtin_popcount(covered);
+  }
+#endif
+  for (; i < size(); ++i) {
     pixels[count] = i;
     count += triangle_[i] >= 0;
   }

@@ -99,6 +99,8 @@ class Renderer {
   struct PixelShading;
   [[gnu::always_inline]] inline PixelShading ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const;
   ShadingInputs Inputs(const Parameters& phi, const Camera& camera) const;
+  static constexpr int kShadingChunk = 64;  // pixels; a bit mask marks its eyeball pixels
+  void ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out) const;
 
   std::shared_ptr<const EyeRegionModel> model_;
   PosedModel posed_;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -63,20 +65,39 @@ class Texture {
   struct Level {
     const float* texels;
     int size;
-    // Bilinear, clamped at the edges; four channels, one vector load per texel.
-    Eigen::Vector4f Sample(float u, float v) const {
+
+    // Where a bilinear sample at (u, v) reads, clamped at the edges: the
+    // offset of its top-left texel (in floats) and the weights of the texels
+    // right of and below it. LocateMany does the same for many coordinates in
+    // a loop the compiler vectorises.
+    void Locate(float u, float v, int32_t& offset, float& fx, float& fy) const {
+      const float scale = static_cast<float>(size), last = scale - 1.001f;
+      // In this operand order a NaN coordinate clamps to 0 instead of reading outside.
+      const float x = std::min(last, std::max(0.0f, u * scale - 0.5f));
+      const float y = std::min(last, std::max(0.0f, (1.0f - v) * scale - 0.5f));
+      const int32_t x0 = static_cast<int32_t>(x), y0 = static_cast<int32_t>(y);
+      fx = x - static_cast<float>(x0);
+      fy = y - static_cast<float>(y0);
+      offset = (y0 * size + x0) * C;
+    }
+    void LocateMany(const float* u, const float* v, int n, int32_t* offset, float* fx, float* fy) const {
+      for (int i = 0; i < n; ++i) Locate(u[i], v[i], offset[i], fx[i], fy[i]);
+    }
+    // The bilinear sample at a located position; four channels, one vector load per texel.
+    Eigen::Vector4f SampleAt(int32_t offset, float fx, float fy) const {
       static_assert(C == 4);
-      const int s = size;
-      const float x = std::clamp(u * s - 0.5f, 0.0f, s - 1.001f);
-      const float y = std::clamp((1.0f - v) * s - 0.5f, 0.0f, s - 1.001f);
-      const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-      const float fx = x - x0, fy = y - y0;
-      const float* row0 = texels + (static_cast<std::size_t>(y0) * s + x0) * 4;
-      const float* row1 = row0 + static_cast<std::size_t>(s) * 4;
+      const float* row0 = texels + offset;
+      const float* row1 = row0 + static_cast<std::ptrdiff_t>(size) * 4;
       using Texel = Eigen::Map<const Eigen::Vector4f>;
       const Eigen::Vector4f top = Texel(row0) + fx * (Texel(row0 + 4) - Texel(row0));
       const Eigen::Vector4f bottom = Texel(row1) + fx * (Texel(row1 + 4) - Texel(row1));
       return top + fy * (bottom - top);
+    }
+    Eigen::Vector4f Sample(float u, float v) const {
+      int32_t offset;
+      float fx, fy;
+      Locate(u, v, offset, fx, fy);
+      return SampleAt(offset, fx, fy);
     }
   };
   Level level(int index) const { return {levels_[index].data(), sizes_[index]}; }
