@@ -122,14 +122,13 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         fit.crop = crop;
         fit.seconds = timer.Seconds();
         fit.energy = result.terms.total();
-        fit.in_head = Read(result.phi.gaze_pitch(), EyeRegionModel::EyeYaw(result.phi, crop.ModelEye()),
-                           crop.Label(GazeFrame::kHead));
+        const Eigen::Vector2d head_label = crop.Label(GazeFrame::kHead);
+        fit.in_head = Read(result.phi.gaze_pitch(), EyeRegionModel::EyeYaw(result.phi, crop.ModelEye()), head_label);
         const EyeGaze eye_gaze = EyeGazes(result.phi)[crop.ModelEye()];
         const Eigen::Vector2d angles = GazeAngles(eye_gaze.gaze) - GazeAngles(-eye_gaze.centre);
         fit.in_camera = Read(-RadToDeg(angles.y()), RadToDeg(angles.x()), crop.Label(GazeFrame::kCamera));
         fit.head_pitch = result.phi.rotation_deg().x();
         fit.head_yaw = result.phi.rotation_deg().y();
-        const Eigen::Vector2d head_label = crop.Label(GazeFrame::kHead);
         for (const FitIteration& iterate : result.history) {
           fit.energy_by_iteration.push_back(iterate.terms.image);
           fit.gaze_error_by_iteration.push_back(GazeAngleBetween(iterate.phi.gaze_pitch(),

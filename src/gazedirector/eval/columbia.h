@@ -51,11 +51,15 @@ struct GazeReading {
   double pitch_error = 0, yaw_error = 0;
 };
 
-// The fit of one crop, compared with its label in both frames.
-struct ColumbiaFit {
-  ColumbiaCrop crop;
+// An estimate compared with its label in both frames.
+struct GazeReadings {
   GazeReading in_head, in_camera;
   const GazeReading& Reading(GazeFrame frame) const { return frame == GazeFrame::kHead ? in_head : in_camera; }
+};
+
+// The fit of one crop.
+struct ColumbiaFit : GazeReadings {
+  ColumbiaCrop crop;
   double head_pitch = 0, head_yaw = 0;  // the eye region's fitted rotation, degrees
   double energy = 0;  // the fit's final E
   double seconds = 0;
@@ -70,11 +74,9 @@ struct ColumbiaFit {
 // mean of the two eyes' fits, as in the paper's model, whose two eyeballs
 // share one pitch and yaw: the eyes look at the same target, and errors that
 // mirror between them (where each eyeball sits behind its lids) cancel.
-struct ColumbiaPhoto {
+struct ColumbiaPhoto : GazeReadings {
   ColumbiaCrop crop;  // the first eye's crop: the photo's labels
   int eyes = 0;       // 1 or 2
-  GazeReading in_head, in_camera;
-  const GazeReading& Reading(GazeFrame frame) const { return frame == GazeFrame::kHead ? in_head : in_camera; }
 };
 
 // One entry per photo, in the order of the fits.

@@ -132,6 +132,14 @@ struct Renderer::ShadingInputs {
   Eigen::Vector3f iris, sclera;
   Eigen::Vector4f upper_lid[2], lower_lid[2];
   EyeballShading shading;
+
+  // The skin's colour before lighting at a located texel (both skin
+  // textures share their size), looking down as far as `blend` says.
+  Eigen::Vector4f SkinAlbedo(int32_t offset, float fx, float fy) const {
+    Eigen::Vector4f albedo = skin_ahead.SampleAt(offset, fx, fy);
+    if (blend > 0) albedo += blend * (skin_down.SampleAt(offset, fx, fy) - albedo);
+    return albedo;
+  }
 };
 
 // One pixel's shading and the pieces its linear derivatives need.
@@ -176,8 +184,10 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
   shading.uv = a.head<2>();
   shading.eyeball = IsEyeball(part);
   if (!shading.eyeball) {
-    shading.albedo = in.skin_ahead.Sample(a[0], a[1]).head<3>();
-    if (in.blend > 0) shading.albedo += in.blend * (in.skin_down.Sample(a[0], a[1]).head<3>() - shading.albedo);
+    int32_t offset;
+    float fx, fy;
+    in.skin_ahead.Locate(a[0], a[1], offset, fx, fy);
+    shading.albedo = in.SkinAlbedo(offset, fx, fy).head<3>();
   } else {
     const Eigen::Vector4f base = in.eyeball.Sample(a[0], a[1]);
     // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
@@ -258,8 +268,7 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
       out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.a.segment<3>(2)).transpose();
       continue;
     }
-    Eigen::Vector4f albedo = in.skin_ahead.SampleAt(offset[j], fx[j], fy[j]);
-    if (in.blend > 0) albedo += in.blend * (in.skin_down.SampleAt(offset[j], fx[j], fy[j]) - albedo);
+    const Eigen::Vector4f albedo = in.SkinAlbedo(offset[j], fx[j], fy[j]);
     red[j] = albedo[0] * light(0, j), green[j] = albedo[1] * light(1, j), blue[j] = albedo[2] * light(2, j);
   }
 }
@@ -318,10 +327,14 @@ void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const
       continue;
     }
     if (!any_texture) continue;
+    // Every mode has the skin's size: the texels are found once.
+    int32_t offset;
+    float fx, fy;
+    in.skin_ahead.Locate(s.uv.x(), s.uv.y(), offset, fx, fy);
     for (int j = 0; j < kNumTextureModes; ++j) {
       if (column[kTexture + j] < 0) continue;
-      Eigen::Vector3f mode = modes[2 * j].Sample(s.uv.x(), s.uv.y()).head<3>();
-      if (in.blend > 0) mode += in.blend * (modes[2 * j + 1].Sample(s.uv.x(), s.uv.y()).head<3>() - mode);
+      Eigen::Vector3f mode = modes[2 * j].SampleAt(offset, fx, fy).head<3>();
+      if (in.blend > 0) mode += in.blend * (modes[2 * j + 1].SampleAt(offset, fx, fy).head<3>() - mode);
       for (int c = 0; c < 3; ++c) jacobian(3 * i + c, column[kTexture + j]) = mode[c] * shade[c];
     }
   }

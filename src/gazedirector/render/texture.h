@@ -102,25 +102,11 @@ class Texture {
   };
   Level level(int index) const { return {levels_[index].data(), sizes_[index]}; }
 
-  void Sample(float u, float v, int level, float* out) const {
-    const int s = sizes_[level];
-    const float* texels = levels_[level].data();
-    const float x = std::clamp(u * s - 0.5f, 0.0f, s - 1.001f);
-    const float y = std::clamp((1.0f - v) * s - 0.5f, 0.0f, s - 1.001f);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const float fx = x - x0, fy = y - y0;
-    const float* row0 = texels + (static_cast<std::size_t>(y0) * s + x0) * C;
-    const float* row1 = row0 + static_cast<std::size_t>(s) * C;
-    const float w00 = (1 - fx) * (1 - fy), w01 = fx * (1 - fy), w10 = (1 - fx) * fy, w11 = fx * fy;
-    for (int c = 0; c < C; ++c) out[c] = w00 * row0[c] + w01 * row0[C + c] + w10 * row1[c] + w11 * row1[C + c];
-  }
-
  private:
   std::vector<int> sizes_;
   std::vector<std::vector<float>> levels_;
 };
 
-using RgbTexture = Texture<3>;
 using RgbaTexture = Texture<4>;  // RGB and a spare channel, for vector loads
 
 }  // namespace gazedirector
