@@ -272,8 +272,8 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
 // Iterations of annealed Gauss-Newton on one pyramid level, from Φ; counts
 // the fit's iterations in `progress` (for the annealing schedule). Returns
 // whether it stopped because E stopped falling.
-bool Fitter::RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free, bool gaze_search,
-                      Parameters& phi, int& iteration, std::vector<FitIteration>* history) {
+bool Fitter::RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free,
+                      const Eigen::Vector2d* search_centre, Parameters& phi, int& iteration, std::vector<FitIteration>* history) {
   EvaluationWorkspace& main = *workspaces_[0];
   const double base_landmarks = options_.weights.landmarks;
   int stalled = 0;
@@ -308,8 +308,8 @@ bool Fitter::RunLevel(FittingProblem& problem, int level, int budget, const std:
         if (history != nullptr) history->push_back({level, terms, phi, eta});
       }
     }
-    if (gaze_search && local == 0) {
-      phi = SearchGaze(problem, phi);
+    if (search_centre != nullptr && local == 0) {
+      phi = SearchGaze(problem, phi, *search_centre);
       accepted = true;
       stalled = 0;
     }
@@ -334,6 +334,19 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   std::vector<FitIteration>* history = options_.record_history ? &result.history : nullptr;
   int iteration = 0;
   int first_level = 0;
+  // The gaze search is centred on looking into the lens as seen from the
+  // starting head pose (the landmarks', or the one given for an eye patch):
+  // people in photos mostly look near the camera, and from a turned head
+  // that is a turned eye. Not from the pose after an iteration, which one
+  // eye alone hardly tells.
+  Eigen::Vector3d eyes_centre = Eigen::Vector3d::Zero();
+  const std::array<bool, 2> fitted = levels[0].problem->eyes();
+  for (int eye = 0; eye < 2; ++eye) {
+    if (fitted[eye]) eyes_centre += EyeRegionModel::EyeCentreInHead(phi, eye) / (fitted[0] + fitted[1]);
+  }
+  const Eigen::Vector3d to_camera = -(phi.rotation() * eyes_centre + phi.translation());
+  const Eigen::Vector2d lens = EyeRegionModel::PitchYawInHead(phi.rotation().transpose() * to_camera);
+  const Eigen::Vector2d* search_centre = options_.gaze_search ? &lens : nullptr;
   // A fresh fit starts the coarsest level from several gaze pitches and goes
   // on from the lowest energy: pitch has more than one basin.
   if (fresh && num_levels > 1 && options_.pitch_starts.size() > 1) {
@@ -349,7 +362,7 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
       ClampToBounds(start);
       std::vector<FitIteration> start_history;
       int start_iteration = 0;
-      RunLevel(*levels[0].problem, 0, budget, free, options_.gaze_search, start, start_iteration,
+      RunLevel(*levels[0].problem, 0, budget, free, search_centre, start, start_iteration,
                history ? &start_history : nullptr);
       const double energy = levels[0].problem->Evaluate(start, *workspaces_[0], nullptr).total();
       if (energy < best) best = energy, best_phi = start, best_history = start_history, best_iteration = start_iteration;
@@ -361,8 +374,8 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   }
   for (int l = first_level; l < num_levels; ++l) {
     const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
-    const bool search = fresh && options_.gaze_search && l == 0;
-    result.converged = RunLevel(*levels[l].problem, l, budget, free, search, phi, iteration, history);
+    const bool search = fresh && l == 0;
+    result.converged = RunLevel(*levels[l].problem, l, budget, free, search ? search_centre : nullptr, phi, iteration, history);
   }
   result.iterations = iteration;
   FittingProblem& finest = *levels.back().problem;
@@ -373,14 +386,14 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   return result;
 }
 
-Parameters Fitter::SearchGaze(FittingProblem& problem, const Parameters& phi) {
+Parameters Fitter::SearchGaze(FittingProblem& problem, const Parameters& phi, const Eigen::Vector2d& centre) {
   std::vector<Parameters> candidates;
   const double step = options_.gaze_search_step;
   for (double pitch = -options_.gaze_search_pitch; pitch <= options_.gaze_search_pitch + 1e-9; pitch += step) {
     for (double yaw = -options_.gaze_search_yaw; yaw <= options_.gaze_search_yaw + 1e-9; yaw += step) {
       Parameters candidate = phi;
-      candidate.gaze_pitch() = pitch;
-      candidate.gaze_yaw() = yaw;
+      candidate.gaze_pitch() = std::round(centre.x() / step) * step + pitch;
+      candidate.gaze_yaw() = std::round(centre.y() / step) * step + yaw;
       // The lids stay: moved with the gaze they could close over a
       // hard-to-explain iris, which would look like a good fit.
       ClampToBounds(candidate);

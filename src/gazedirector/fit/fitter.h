@@ -30,8 +30,9 @@ struct FitOptions {
   double landmark_final = 0.5;
   bool record_history = false;    // keep every iterate (for plots)
   // After the first iteration, try a grid of gaze directions (lids following)
-  // and go on from the best: Gauss-Newton alone can stall in the nearest
-  // local minimum. Off for warm starts, whose gaze is already close.
+  // around looking into the lens and go on from the best: Gauss-Newton alone
+  // can stall in the nearest local minimum. Off for warm starts, whose gaze
+  // is already close.
   bool gaze_search = true;
   double gaze_search_yaw = 30;    // the grid spans +-this many degrees of yaw
   double gaze_search_pitch = 20;  // and of pitch
@@ -102,10 +103,11 @@ class Fitter {
   };
   // `fresh`: not warm-started, so search gaze and try several pitches.
   FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free, bool fresh);
-  bool RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free, bool gaze_search,
-                Parameters& phi, int& iteration, std::vector<FitIteration>* history);
-  // The grid point of gaze with the lowest energy, from Φ.
-  Parameters SearchGaze(FittingProblem& problem, const Parameters& phi);
+  // With `search_centre` (gaze pitch, yaw in degrees), searches a grid of gazes around it after the first step.
+  bool RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free,
+                const Eigen::Vector2d* search_centre, Parameters& phi, int& iteration, std::vector<FitIteration>* history);
+  // The point of a grid of gazes around `centre` with the lowest energy, from Φ.
+  Parameters SearchGaze(FittingProblem& problem, const Parameters& phi, const Eigen::Vector2d& centre);
   // One Gauss-Newton linearisation at Φ: the residuals, J^T J and J^T r over `free`.
   double Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
                    Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);

@@ -71,7 +71,9 @@ TEST_P(SyntheticEyePatchTest, RecoversTheRenderedGaze) {
 
 INSTANTIATE_TEST_SUITE_P(Gazes, SyntheticEyePatchTest,
                          ::testing::Values(SyntheticCase{0, 0, 0}, SyntheticCase{0, -8, 12}, SyntheticCase{0, 8, -12},
-                                           SyntheticCase{30, 0, 0}, SyntheticCase{-30, 0, 10}),
+                                           SyntheticCase{30, 0, 0}, SyntheticCase{-30, 0, 10},
+                                           // Looking past the lens from a turned head: 40 degrees in the head.
+                                           SyntheticCase{30, 0, 40}, SyntheticCase{-30, 5, -42}),
                          [](const ::testing::TestParamInfo<SyntheticCase>& info) {
                            auto name = [](const char* what, double value) {
                              return std::string(what) + (value < 0 ? "Minus" : "") + std::to_string(std::abs(static_cast<int>(value)));

@@ -106,6 +106,11 @@ Eigen::Vector3d EyeRegionModel::GazeInHead(double pitch_deg, double yaw_deg) {
   return GazeRotation(pitch_deg, yaw_deg) * Eigen::Vector3d(0, 0, -1);
 }
 
+Eigen::Vector2d EyeRegionModel::PitchYawInHead(const Eigen::Vector3d& direction) {
+  const Eigen::Vector3d u = direction.normalized();
+  return {RadToDeg(std::asin(std::clamp(-u.y(), -1.0, 1.0))), RadToDeg(std::atan2(u.x(), -u.z()))};
+}
+
 double EyeRegionModel::EyeYaw(const Parameters& phi, int eye) {
   // The left eye sits at +x; converging turns it toward -x (smaller yaw).
   return eye == kLeftEye ? phi.gaze_yaw() - 0.5 * phi.vergence() : phi.gaze_yaw() + 0.5 * phi.vergence();

@@ -111,6 +111,8 @@ class EyeRegionModel {
   // The eye's gaze direction in the head frame (x: subject's left, y: down,
   // z: into the head) for pitch, yaw (degrees) and the vergence share of this eye.
   static Eigen::Vector3d GazeInHead(double pitch_deg, double yaw_deg);
+  // The inverse: pitch and yaw (degrees) of a direction in the head frame.
+  static Eigen::Vector2d PitchYawInHead(const Eigen::Vector3d& direction);
   static Eigen::Matrix3d GazeRotation(double pitch_deg, double yaw_deg);
   // Yaw of one eye: vergence turns each eye toward the nose by half its angle.
   static double EyeYaw(const Parameters& phi, int eye);

@@ -20,11 +20,6 @@ Eigen::Vector3d DirectionOf(double pitch_deg, double yaw_deg) { return EyeRegion
 
 }  // namespace
 
-Eigen::Vector2d PitchYawOf(const Eigen::Vector3d& d) {
-  const Eigen::Vector3d u = d.normalized();
-  return {RadToDeg(std::asin(std::clamp(-u.y(), -1.0, 1.0))), RadToDeg(std::atan2(u.x(), -u.z()))};
-}
-
 GazeTarget GazeTarget::Point(const Eigen::Vector3d& point) {
   GazeTarget target;
   target.kind = Kind::kPoint;
@@ -109,8 +104,8 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollo
     case GazeTarget::Kind::kPoint: {
       const Eigen::Vector3d point = target.kind == GazeTarget::Kind::kCamera ? Eigen::Vector3d::Zero() : target.point;
       const Eigen::Vector3d in_head = rotation.transpose() * (point - phi.translation());
-      const Eigen::Vector2d left = PitchYawOf(in_head - EyeRegionModel::EyeCentreInHead(phi, kLeftEye));
-      const Eigen::Vector2d right = PitchYawOf(in_head - EyeRegionModel::EyeCentreInHead(phi, kRightEye));
+      const Eigen::Vector2d left = EyeRegionModel::PitchYawInHead(in_head - EyeRegionModel::EyeCentreInHead(phi, kLeftEye));
+      const Eigen::Vector2d right = EyeRegionModel::PitchYawInHead(in_head - EyeRegionModel::EyeCentreInHead(phi, kRightEye));
       out.gaze_pitch() = 0.5 * (left.x() + right.x());
       out.gaze_yaw() = 0.5 * (left.y() + right.y());
       out.vergence() = right.y() - left.y();
@@ -119,7 +114,7 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollo
     case GazeTarget::Kind::kDirection: {
       Eigen::Vector3d direction = DirectionOf(target.pitch_deg, target.yaw_deg);
       if (target.frame == GazeTarget::Frame::kCamera) direction = rotation.transpose() * direction;
-      const Eigen::Vector2d pitch_yaw = PitchYawOf(direction);
+      const Eigen::Vector2d pitch_yaw = EyeRegionModel::PitchYawInHead(direction);
       out.gaze_pitch() = pitch_yaw.x();
       out.gaze_yaw() = pitch_yaw.y();
       break;

@@ -53,9 +53,6 @@ struct EyelidFollow {
 // eye's range.
 Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollow follow = {});
 
-// The gaze pitch and yaw (degrees) of a unit direction in the head frame.
-Eigen::Vector2d PitchYawOf(const Eigen::Vector3d& direction_in_head);
-
 // Blends two gaze poses (gaze and eyelids only; the rest from `a`) by `t` in [0, 1].
 Parameters BlendGaze(const Parameters& a, const Parameters& b, double t);
 

@@ -26,7 +26,7 @@ double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 TEST(GazeTargetTest, PitchYawInvertsTheModelsGazeDirection) {
   for (double pitch : {-25.0, 0.0, 17.0}) {
     for (double yaw : {-40.0, -3.0, 0.0, 30.0}) {
-      const Eigen::Vector2d back = PitchYawOf(EyeRegionModel::GazeInHead(pitch, yaw));
+      const Eigen::Vector2d back = EyeRegionModel::PitchYawInHead(EyeRegionModel::GazeInHead(pitch, yaw));
       EXPECT_NEAR(back.x(), pitch, 1e-9);
       EXPECT_NEAR(back.y(), yaw, 1e-9);
     }
