@@ -38,6 +38,17 @@ double GroupWeight(LandmarkGroup group, const EnergyWeights& weights) {
   }
 }
 
+// Gaze pitch and yaw in the head that look from the fitted eyes into the lens.
+Eigen::Vector2d LookingIntoTheLens(const Parameters& phi, std::array<bool, 2> eyes) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int eye = 0; eye < 2; ++eye) {
+    if (eyes[eye]) centre += EyeRegionModel::EyeCentreInHead(phi, eye);
+  }
+  centre /= std::max(1, eyes[0] + eyes[1]);
+  const Eigen::Vector3d to_camera = -(phi.rotation() * centre + phi.translation());
+  return EyeRegionModel::PitchYawInHead(phi.rotation().transpose() * to_camera);
+}
+
 }  // namespace
 
 void ClampToBounds(Parameters& phi) {
@@ -334,19 +345,13 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   std::vector<FitIteration>* history = options_.record_history ? &result.history : nullptr;
   int iteration = 0;
   int first_level = 0;
-  // The gaze search is centred on looking into the lens as seen from the
-  // starting head pose (the landmarks', or the one given for an eye patch):
-  // people in photos mostly look near the camera, and from a turned head
-  // that is a turned eye. Not from the pose after an iteration, which one
-  // eye alone hardly tells.
-  Eigen::Vector3d eyes_centre = Eigen::Vector3d::Zero();
-  const std::array<bool, 2> fitted = levels[0].problem->eyes();
-  for (int eye = 0; eye < 2; ++eye) {
-    if (fitted[eye]) eyes_centre += EyeRegionModel::EyeCentreInHead(phi, eye) / (fitted[0] + fitted[1]);
-  }
-  const Eigen::Vector3d to_camera = -(phi.rotation() * eyes_centre + phi.translation());
-  const Eigen::Vector2d lens = EyeRegionModel::PitchYawInHead(phi.rotation().transpose() * to_camera);
-  const Eigen::Vector2d* search_centre = options_.gaze_search ? &lens : nullptr;
+  // A fresh fit's gaze search is centred on looking into the lens as seen
+  // from the starting head pose (the landmarks', or the one given for an eye
+  // patch): people in photos mostly look near the camera, and from a turned
+  // head that is a turned eye. Not from the pose after an iteration, which
+  // one eye alone hardly tells.
+  const Eigen::Vector2d lens = LookingIntoTheLens(phi, levels[0].problem->eyes());
+  const Eigen::Vector2d* search_centre = fresh && options_.gaze_search ? &lens : nullptr;
   // A fresh fit starts the coarsest level from several gaze pitches and goes
   // on from the lowest energy: pitch has more than one basin.
   if (fresh && num_levels > 1 && options_.pitch_starts.size() > 1) {
@@ -374,8 +379,7 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   }
   for (int l = first_level; l < num_levels; ++l) {
     const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
-    const bool search = fresh && l == 0;
-    result.converged = RunLevel(*levels[l].problem, l, budget, free, search ? search_centre : nullptr, phi, iteration, history);
+    result.converged = RunLevel(*levels[l].problem, l, budget, free, l == 0 ? search_centre : nullptr, phi, iteration, history);
   }
   result.iterations = iteration;
   FittingProblem& finest = *levels.back().problem;

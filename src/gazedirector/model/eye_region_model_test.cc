@@ -58,6 +58,16 @@ TEST(EyeRegionModelTest, GazeMovesTheIrisTheRightWayByTheGeometricAmount) {
   EXPECT_LT(posed_ahead.eyes[0].gaze.z(), -0.99) << "looking at the camera";
 }
 
+TEST(EyeRegionModelTest, PitchYawInHeadInvertsGazeInHead) {
+  for (double pitch : {-25.0, 0.0, 17.0}) {
+    for (double yaw : {-40.0, -3.0, 0.0, 30.0}) {
+      const Eigen::Vector2d back = EyeRegionModel::PitchYawInHead(EyeRegionModel::GazeInHead(pitch, yaw));
+      EXPECT_NEAR(back.x(), pitch, 1e-9);
+      EXPECT_NEAR(back.y(), yaw, 1e-9);
+    }
+  }
+}
+
 TEST(EyeRegionModelTest, VergenceTurnsBothEyesTowardTheNose) {
   Parameters phi = Frontal();
   phi.vergence() = 10;

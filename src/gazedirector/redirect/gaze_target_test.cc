@@ -23,16 +23,6 @@ double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return RadToDeg(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
 }
 
-TEST(GazeTargetTest, PitchYawInvertsTheModelsGazeDirection) {
-  for (double pitch : {-25.0, 0.0, 17.0}) {
-    for (double yaw : {-40.0, -3.0, 0.0, 30.0}) {
-      const Eigen::Vector2d back = EyeRegionModel::PitchYawInHead(EyeRegionModel::GazeInHead(pitch, yaw));
-      EXPECT_NEAR(back.x(), pitch, 1e-9);
-      EXPECT_NEAR(back.y(), yaw, 1e-9);
-    }
-  }
-}
-
 TEST(GazeTargetTest, BothEyesLookAtThePoint) {
   for (const Eigen::Vector3d& point : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-150, 60, 50), Eigen::Vector3d(80, 30, 300)}) {
     const Parameters phi = Retarget(Face(), point.isZero() ? GazeTarget::Camera() : GazeTarget::Point(point));
