@@ -9,6 +9,7 @@ namespace gazedirector::cli {
 void AddFittingOptions(CLI::App& command, FittingOptions& options) {
   command.add_flag("--largest", options.largest, "Only the largest face");
   command.add_option("--fit", options.fit, "Fitter option name=value (repeatable); `gazedirector eval columbia --help` lists them");
+  command.add_option("--warm-fit", options.warm_fit, "The same for video frames fitted from the previous frame's fit");
 }
 
 FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOptions& options) {
@@ -19,6 +20,9 @@ FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOpti
   setup.mean_face = LoadMeanFace(assets.mean_face());
   for (const std::string& assignment : options.fit) {
     SetFitOption(setup.tracker_options.fresh, assignment);
+  }
+  for (const std::string& assignment : options.warm_fit) {
+    SetFitOption(setup.tracker_options.warm, assignment);
   }
   setup.largest = options.largest;
   return setup;

@@ -18,6 +18,7 @@ namespace gazedirector::cli {
 struct FittingOptions {
   bool largest = false;
   std::vector<std::string> fit;  // name=value fitter options
+  std::vector<std::string> warm_fit;  // the same for warm-started video frames
 };
 void AddFittingOptions(CLI::App& command, FittingOptions& options);
 

@@ -82,7 +82,7 @@ std::vector<Parameters> FitClip(std::shared_ptr<const EyeRegionModel> model, con
                                 double* warm_seconds = nullptr) {
   auto pool = std::make_shared<ThreadPool>();
   Fitter fresh(model, FitOptions{}, pool);
-  Fitter warm(model, GazeTrackerOptions::Defaults().SettledWarm(), pool);
+  Fitter warm(model, GazeTrackerOptions().SettledWarm(), pool);
   std::vector<Parameters> fits = {fresh.FitFace(clip.frames[0], clip.camera, clip.faces[0]).phi};
   Timer timer;
   for (std::size_t i = 1; i < clip.frames.size(); ++i) {

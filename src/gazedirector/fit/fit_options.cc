@@ -26,6 +26,7 @@ const std::map<std::string, Accessor>& Options() {
       {"first_step", [](FitOptions& o) -> double& { return o.first_step; }},
       {"step_growth", [](FitOptions& o) -> double& { return o.step_growth; }},
       {"landmark_final", [](FitOptions& o) -> double& { return o.landmark_final; }},
+      {"jump_search_step", [](FitOptions& o) -> double& { return o.jump_search_step; }},
   };
   return options;
 }

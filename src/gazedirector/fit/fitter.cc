@@ -377,6 +377,7 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
     if (history) *history = best_history;
     first_level = 1;
   }
+  if (!fresh && options_.jump_search_step > 0) phi = BestGaze(*levels[0].problem, phi, JumpGazes(phi, lens));
   for (int l = first_level; l < num_levels; ++l) {
     const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
     result.converged = RunLevel(*levels[l].problem, l, budget, free, l == 0 ? search_centre : nullptr, phi, iteration, history);
@@ -391,18 +392,27 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
 }
 
 Parameters Fitter::SearchGaze(FittingProblem& problem, const Parameters& phi, const Eigen::Vector2d& centre) {
-  std::vector<Parameters> candidates;
   const double step = options_.gaze_search_step;
+  const Eigen::Vector2d grid_centre = (centre / step).array().round() * step;
+  std::vector<Eigen::Vector2d> gazes;
   for (double pitch = -options_.gaze_search_pitch; pitch <= options_.gaze_search_pitch + 1e-9; pitch += step) {
     for (double yaw = -options_.gaze_search_yaw; yaw <= options_.gaze_search_yaw + 1e-9; yaw += step) {
-      Parameters candidate = phi;
-      candidate.gaze_pitch() = std::round(centre.x() / step) * step + pitch;
-      candidate.gaze_yaw() = std::round(centre.y() / step) * step + yaw;
-      // The lids stay: moved with the gaze they could close over a
-      // hard-to-explain iris, which would look like a good fit.
-      ClampToBounds(candidate);
-      candidates.push_back(candidate);
+      gazes.push_back(grid_centre + Eigen::Vector2d(pitch, yaw));
     }
+  }
+  return BestGaze(problem, phi, gazes);
+}
+
+Parameters Fitter::BestGaze(FittingProblem& problem, const Parameters& phi, const std::vector<Eigen::Vector2d>& gazes) {
+  std::vector<Parameters> candidates;
+  for (const Eigen::Vector2d& gaze : gazes) {
+    Parameters candidate = phi;
+    candidate.gaze_pitch() = gaze.x();
+    candidate.gaze_yaw() = gaze.y();
+    // The lids stay: moved with the gaze they could close over a
+    // hard-to-explain iris, which would look like a good fit.
+    ClampToBounds(candidate);
+    candidates.push_back(candidate);
   }
   candidates.push_back(phi);
   std::vector<double> energies(candidates.size());
@@ -410,6 +420,21 @@ Parameters Fitter::SearchGaze(FittingProblem& problem, const Parameters& phi, co
     energies[i] = problem.Evaluate(candidates[i], *workspaces_[worker], nullptr).total();
   });
   return candidates[std::min_element(energies.begin(), energies.end()) - energies.begin()];
+}
+
+std::vector<Eigen::Vector2d> Fitter::JumpGazes(const Parameters& phi, const Eigen::Vector2d& lens) const {
+  const double step = options_.jump_search_step;
+  std::vector<Eigen::Vector2d> gazes;
+  const Eigen::Vector2d start(phi.gaze_pitch(), phi.gaze_yaw());
+  for (int pitch = -1; pitch <= 1; ++pitch) {
+    for (int yaw = -1; yaw <= 1; ++yaw) {
+      if (pitch != 0 || yaw != 0) gazes.push_back(start + step * Eigen::Vector2d(pitch, yaw));
+    }
+  }
+  for (int pitch = -1; pitch <= 1; ++pitch) {
+    for (int yaw = -2; yaw <= 2; ++yaw) gazes.push_back(lens + step * Eigen::Vector2d(pitch, yaw));
+  }
+  return gazes;
 }
 
 void Fitter::Assess(FitResult& result, const FittingProblem& problem) const {

@@ -37,6 +37,11 @@ struct FitOptions {
   double gaze_search_yaw = 30;    // the grid spans +-this many degrees of yaw
   double gaze_search_pitch = 20;  // and of pitch
   double gaze_search_step = 5;
+  // A warm fit first tries gaze jumps of this many degrees (0: none) around
+  // its start and around looking into the lens, and goes on from the best:
+  // saccades outrun Gauss-Newton, and a track that slid into a wrong minimum
+  // (a dark limbal ring or lashes taken for the iris) finds its way back.
+  double jump_search_step = 0;
   // A fresh fit runs the coarse level from each of these gaze pitches (degrees)
   // and goes on from the best: pitch has several basins.
   std::vector<double> pitch_starts = {-10, 0, 10};
@@ -108,6 +113,12 @@ class Fitter {
                 const Eigen::Vector2d* search_centre, Parameters& phi, int& iteration, std::vector<FitIteration>* history);
   // The point of a grid of gazes around `centre` with the lowest energy, from Φ.
   Parameters SearchGaze(FittingProblem& problem, const Parameters& phi, const Eigen::Vector2d& centre);
+  // Φ with the gaze (pitch, yaw) of `gazes` that has the lowest energy, or Φ
+  // itself where none is lower; the lids stay.
+  Parameters BestGaze(FittingProblem& problem, const Parameters& phi, const std::vector<Eigen::Vector2d>& gazes);
+  // A warm fit's jumps: one step each way around Φ's gaze, and a wider grid
+  // around `lens` (looking into the lens).
+  std::vector<Eigen::Vector2d> JumpGazes(const Parameters& phi, const Eigen::Vector2d& lens) const;
   // One Gauss-Newton linearisation at Φ: the residuals, J^T J and J^T r over `free`.
   double Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
                    Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);

@@ -118,6 +118,9 @@ class EyeRegionModel {
   static double EyeYaw(const Parameters& phi, int eye);
   // The eyeball centre in the head frame.
   static Eigen::Vector3d EyeCentreInHead(const Parameters& phi, int eye);
+  // Gaze pitch, yaw and vergence (degrees) that make both eyes of Φ's head
+  // look at `point` (camera coordinates, mm).
+  static Eigen::Vector3d FixationAngles(const Parameters& phi, const Eigen::Vector3d& point);
   // Model frame of the left eye -> head frame (x, y, z) -> (x, -z, y); the
   // right eye mirrors x first.
   static Eigen::Matrix3d ModelToHead(int eye);

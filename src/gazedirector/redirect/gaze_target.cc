@@ -103,12 +103,10 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollo
     case GazeTarget::Kind::kCamera:
     case GazeTarget::Kind::kPoint: {
       const Eigen::Vector3d point = target.kind == GazeTarget::Kind::kCamera ? Eigen::Vector3d::Zero() : target.point;
-      const Eigen::Vector3d in_head = rotation.transpose() * (point - phi.translation());
-      const Eigen::Vector2d left = EyeRegionModel::PitchYawInHead(in_head - EyeRegionModel::EyeCentreInHead(phi, kLeftEye));
-      const Eigen::Vector2d right = EyeRegionModel::PitchYawInHead(in_head - EyeRegionModel::EyeCentreInHead(phi, kRightEye));
-      out.gaze_pitch() = 0.5 * (left.x() + right.x());
-      out.gaze_yaw() = 0.5 * (left.y() + right.y());
-      out.vergence() = right.y() - left.y();
+      const Eigen::Vector3d angles = EyeRegionModel::FixationAngles(phi, point);
+      out.gaze_pitch() = angles.x();
+      out.gaze_yaw() = angles.y();
+      out.vergence() = angles.z();
       break;
     }
     case GazeTarget::Kind::kDirection: {

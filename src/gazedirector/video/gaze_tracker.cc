@@ -4,19 +4,21 @@
 
 namespace gazedirector {
 
-GazeTrackerOptions GazeTrackerOptions::Defaults() {
-  GazeTrackerOptions options;
-  options.warm.max_iterations = 5;
-  options.warm.coarse_to_fine = false;
-  options.warm.gaze_search = false;
-  options.warm.first_step = 0.8;
-  options.warm.landmark_final = 1.0;
+FitOptions WarmFitOptions() {
+  FitOptions options;
+  options.max_iterations = 5;
+  options.coarse_to_fine = false;
+  options.gaze_search = false;
+  options.jump_search_step = 10;
+  options.first_step = 0.8;
+  options.landmark_final = 1.0;
   return options;
 }
 
 FitOptions GazeTrackerOptions::SettledWarm() const {
   FitOptions settled = warm;
-  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kInterocular}) {
+  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kIrisColour, Block::kScleraTint,
+                      Block::kInterocular}) {
     for (int i = 0; i < LayoutOf(block).size; ++i) settled.free[LayoutOf(block).offset + i] = false;
   }
   return settled;

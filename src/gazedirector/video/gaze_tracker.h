@@ -14,9 +14,13 @@
 
 namespace gazedirector {
 
+// The fitter's options for a frame that starts from the previous frame's fit:
+// few iterations on the finest level only, jumps of gaze tried first.
+FitOptions WarmFitOptions();
+
 struct GazeTrackerOptions {
-  FitOptions fresh;  // for a face seen for the first time (or refitted)
-  FitOptions warm;   // for a face followed from the previous frame
+  FitOptions fresh;                   // for a face seen for the first time (or refitted)
+  FitOptions warm = WarmFitOptions();  // for a face followed from the previous frame
   // After this many fits of a face its shape, texture, iris size and
   // interocular distance are held (the paper's parameter masking): they do
   // not change from frame to frame, and fewer parameters fit faster.
@@ -24,7 +28,6 @@ struct GazeTrackerOptions {
   // A warm fit whose energy exceeds this multiple of the face's typical
   // energy is redone from the landmarks (the fit lost the eyes).
   double refit_ratio = 1.8;
-  static GazeTrackerOptions Defaults();
   // The warm options with the settled parameters held.
   FitOptions SettledWarm() const;
 };
@@ -35,7 +38,7 @@ struct GazeTrackerOptions {
 class GazeTracker {
  public:
   GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::shared_ptr<const LandmarkDetector> landmarks,
-              MeanFace mean_face, GazeTrackerOptions options = GazeTrackerOptions::Defaults(),
+              MeanFace mean_face, GazeTrackerOptions options = {},
               std::shared_ptr<ThreadPool> pool = nullptr, bool largest_only = false);
 
   std::vector<FaceFit> ProcessImage(const cv::Mat& image, const Camera& camera);
