@@ -66,6 +66,19 @@ $gd redirect $data/video/d3.mp4 --fits "$tmp/d3_camera.mp4.fits.jsonl" -o "$tmp/
 ffmpeg -v error -y -i "$tmp/d3_camera.mp4" -t 3 -vf "crop=1024:220:0:130,fps=8,scale=480:-2:flags=lanczos,split[a][b];[a]palettegen[p];[b][p]paletteuse" "$out/d3_eye_contact.gif"
 ffmpeg -v error -y -ss 4.5 -i "$tmp/d3_script.mp4" -t 5 -vf "crop=1024:220:0:130,fps=8,scale=480:-2:flags=lanczos,split[a][b];[a]palettegen[p];[b][p]paletteuse" "$out/d3_reading.gif"
 
+# The known failure: d10.mp4 turned to the camera, frames 200, 300, 400 (original left).
+$gd redirect $data/video/d10.mp4 -o "$tmp/d10_camera.mp4" --look-at camera -q
+rows=()
+for spec in 200:195 300:175 400:185; do  # frame:top of the eye band
+  frame=${spec%:*} top=${spec#*:}
+  for video in $data/video/d10.mp4 "$tmp/d10_camera.mp4"; do
+    ffmpeg -v error -y -i "$video" -vf "select=eq(n\\,$frame),crop=240:90:128:$top,scale=480:180" -frames:v 1 "$tmp/d10_${frame}_$(basename "$video" .mp4).png"
+  done
+  ffmpeg -v error -y -i "$tmp/d10_${frame}_d10.png" -i "$tmp/d10_${frame}_d10_camera.png" -filter_complex hstack "$tmp/d10_row_$frame.png"
+  rows+=(-i "$tmp/d10_row_$frame.png")
+done
+ffmpeg -v error -y "${rows[@]}" -filter_complex vstack=3 "$out/known_failure_d10.png"
+
 # Evaluation figures.
 $gd eval redirect-columbia --plot "$out/eval_redirect_columbia.png" -q > "$tmp/redirect_columbia.txt"
 $gd eval columbia --every 20 --plot "$out/eval_columbia.png" -q > "$tmp/columbia.txt"
