@@ -45,8 +45,17 @@ Eigen::Vector2d LookingIntoTheLens(const Parameters& phi, std::array<bool, 2> ey
     if (eyes[eye]) centre += EyeRegionModel::EyeCentreInHead(phi, eye);
   }
   centre /= std::max(1, eyes[0] + eyes[1]);
-  const Eigen::Vector3d to_camera = -(phi.rotation() * centre + phi.translation());
-  return EyeRegionModel::PitchYawInHead(phi.rotation().transpose() * to_camera);
+  return EyeRegionModel::PitchYawInHead(EyeRegionModel::PointInHead(phi, Eigen::Vector3d::Zero()) - centre);
+}
+
+// Gazes (pitch, yaw) on a grid of `step` degrees around `centre`, `pitch_steps`
+// and `yaw_steps` each way, pitch-major.
+std::vector<Eigen::Vector2d> GazeGrid(const Eigen::Vector2d& centre, int pitch_steps, int yaw_steps, double step) {
+  std::vector<Eigen::Vector2d> gazes;
+  for (int pitch = -pitch_steps; pitch <= pitch_steps; ++pitch) {
+    for (int yaw = -yaw_steps; yaw <= yaw_steps; ++yaw) gazes.push_back(centre + step * Eigen::Vector2d(pitch, yaw));
+  }
+  return gazes;
 }
 
 }  // namespace
@@ -394,13 +403,9 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
 Parameters Fitter::SearchGaze(FittingProblem& problem, const Parameters& phi, const Eigen::Vector2d& centre) {
   const double step = options_.gaze_search_step;
   const Eigen::Vector2d grid_centre = (centre / step).array().round() * step;
-  std::vector<Eigen::Vector2d> gazes;
-  for (double pitch = -options_.gaze_search_pitch; pitch <= options_.gaze_search_pitch + 1e-9; pitch += step) {
-    for (double yaw = -options_.gaze_search_yaw; yaw <= options_.gaze_search_yaw + 1e-9; yaw += step) {
-      gazes.push_back(grid_centre + Eigen::Vector2d(pitch, yaw));
-    }
-  }
-  return BestGaze(problem, phi, gazes);
+  const int pitch_steps = static_cast<int>(std::floor(options_.gaze_search_pitch / step + 1e-9));
+  const int yaw_steps = static_cast<int>(std::floor(options_.gaze_search_yaw / step + 1e-9));
+  return BestGaze(problem, phi, GazeGrid(grid_centre, pitch_steps, yaw_steps, step));
 }
 
 Parameters Fitter::BestGaze(FittingProblem& problem, const Parameters& phi, const std::vector<Eigen::Vector2d>& gazes) {
@@ -424,16 +429,13 @@ Parameters Fitter::BestGaze(FittingProblem& problem, const Parameters& phi, cons
 
 std::vector<Eigen::Vector2d> Fitter::JumpGazes(const Parameters& phi, const Eigen::Vector2d& lens) const {
   const double step = options_.jump_search_step;
-  std::vector<Eigen::Vector2d> gazes;
   const Eigen::Vector2d start(phi.gaze_pitch(), phi.gaze_yaw());
-  for (int pitch = -1; pitch <= 1; ++pitch) {
-    for (int yaw = -1; yaw <= 1; ++yaw) {
-      if (pitch != 0 || yaw != 0) gazes.push_back(start + step * Eigen::Vector2d(pitch, yaw));
-    }
+  std::vector<Eigen::Vector2d> gazes;
+  for (const Eigen::Vector2d& gaze : GazeGrid(start, 1, 1, step)) {
+    if (gaze != start) gazes.push_back(gaze);  // BestGaze tries Φ itself
   }
-  for (int pitch = -1; pitch <= 1; ++pitch) {
-    for (int yaw = -2; yaw <= 2; ++yaw) gazes.push_back(lens + step * Eigen::Vector2d(pitch, yaw));
-  }
+  const std::vector<Eigen::Vector2d> around_lens = GazeGrid(lens, 1, 2, step);
+  gazes.insert(gazes.end(), around_lens.begin(), around_lens.end());
   return gazes;
 }
 

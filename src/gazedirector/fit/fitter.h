@@ -31,8 +31,8 @@ struct FitOptions {
   bool record_history = false;    // keep every iterate (for plots)
   // After the first iteration, try a grid of gaze directions (lids following)
   // around looking into the lens and go on from the best: Gauss-Newton alone
-  // can stall in the nearest local minimum. Off for warm starts, whose gaze
-  // is already close.
+  // can stall in the nearest local minimum. Fresh fits only; warm starts,
+  // whose gaze is already close, try the smaller jump search below.
   bool gaze_search = true;
   double gaze_search_yaw = 30;    // the grid spans +-this many degrees of yaw
   double gaze_search_pitch = 20;  // and of pitch

@@ -120,8 +120,12 @@ Eigen::Vector3d EyeRegionModel::EyeCentreInHead(const Parameters& phi, int eye) 
   return Eigen::Vector3d(eye == kLeftEye ? 0.5 * phi.interocular() : -0.5 * phi.interocular(), 0, 0);
 }
 
+Eigen::Vector3d EyeRegionModel::PointInHead(const Parameters& phi, const Eigen::Vector3d& point) {
+  return phi.rotation().transpose() * (point - phi.translation());
+}
+
 Eigen::Vector3d EyeRegionModel::FixationAngles(const Parameters& phi, const Eigen::Vector3d& point) {
-  const Eigen::Vector3d in_head = phi.rotation().transpose() * (point - phi.translation());
+  const Eigen::Vector3d in_head = PointInHead(phi, point);
   const Eigen::Vector2d left = PitchYawInHead(in_head - EyeCentreInHead(phi, kLeftEye));
   const Eigen::Vector2d right = PitchYawInHead(in_head - EyeCentreInHead(phi, kRightEye));
   return Eigen::Vector3d(0.5 * (left.x() + right.x()), 0.5 * (left.y() + right.y()), right.y() - left.y());

@@ -118,6 +118,8 @@ class EyeRegionModel {
   static double EyeYaw(const Parameters& phi, int eye);
   // The eyeball centre in the head frame.
   static Eigen::Vector3d EyeCentreInHead(const Parameters& phi, int eye);
+  // A point in camera coordinates (mm) in Φ's head frame.
+  static Eigen::Vector3d PointInHead(const Parameters& phi, const Eigen::Vector3d& point);
   // Gaze pitch, yaw and vergence (degrees) that make both eyes of Φ's head
   // look at `point` (camera coordinates, mm).
   static Eigen::Vector3d FixationAngles(const Parameters& phi, const Eigen::Vector3d& point);

@@ -8,7 +8,6 @@ FitOptions WarmFitOptions() {
   FitOptions options;
   options.max_iterations = 5;
   options.coarse_to_fine = false;
-  options.gaze_search = false;
   options.jump_search_step = 10;
   options.first_step = 0.8;
   options.landmark_final = 1.0;

@@ -21,9 +21,10 @@ FitOptions WarmFitOptions();
 struct GazeTrackerOptions {
   FitOptions fresh;                   // for a face seen for the first time (or refitted)
   FitOptions warm = WarmFitOptions();  // for a face followed from the previous frame
-  // After this many fits of a face its shape, texture, iris size and
-  // interocular distance are held (the paper's parameter masking): they do
-  // not change from frame to frame, and fewer parameters fit faster.
+  // After this many fits of a face its shape, texture (skin, iris colour,
+  // sclera tint), iris size and interocular distance are held (the paper's
+  // parameter masking): they do not change from frame to frame, and fewer
+  // parameters fit faster.
   int settle_frames = 3;
   // A warm fit whose energy exceeds this multiple of the face's typical
   // energy is redone from the landmarks (the fit lost the eyes).
