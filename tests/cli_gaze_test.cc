@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/video_reader.h"
@@ -25,6 +26,21 @@ long CountFrames(const fs::path& video) {
   long frames = 0;
   while (reader.Read(frame)) ++frames;
   return frames;
+}
+
+// Per frame, the mean absolute difference between two videos' pixels within
+// `region`.
+std::vector<double> RegionDifferences(const fs::path& a, const fs::path& b, const cv::Rect& region) {
+  VideoReader first(a), second(b);
+  cv::Mat frame_a, frame_b;
+  std::vector<double> differences;
+  while (first.Read(frame_a) && second.Read(frame_b)) {
+    cv::Mat difference;
+    cv::absdiff(frame_a(region), frame_b(region), difference);
+    const cv::Scalar mean = cv::mean(difference);
+    differences.push_back((mean[0] + mean[1] + mean[2]) / 3);
+  }
+  return differences;
 }
 
 TEST(CliGazeTest, TrackWritesFitsGazeCsvAndOverlayForAPortrait) {
@@ -146,6 +162,31 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   EXPECT_EQ(CountFrames(dir / "camera.mp4"), CountFrames(input));
   const fs::path fits = dir / "camera.mp4.fits.jsonl";
   ASSERT_TRUE(fs::exists(fits));
+  // d19 blinks once (frames 92-95): those frames are marked and left as they were.
+  std::vector<long> blinks;
+  cv::Rect eyes;
+  {
+    std::ifstream lines(fits);
+    std::string line;
+    for (long index = 0; std::getline(lines, line); ++index) {
+      const nlohmann::json record = nlohmann::json::parse(line);
+      if (record["faces"].empty()) continue;
+      const nlohmann::json& face = record["faces"][0];
+      if (face["fit"].value("eyes_closed", false)) blinks.push_back(index);
+      if (index == 0) {
+        std::vector<cv::Point> points;
+        for (int k = 36; k < 48; ++k) points.emplace_back(face["landmarks"][k][0], face["landmarks"][k][1]);
+        eyes = cv::boundingRect(points);
+      }
+    }
+  }
+  ASSERT_FALSE(blinks.empty());
+  EXPECT_LT(blinks.size(), 10u);
+  const std::vector<double> changed = RegionDifferences(input, dir / "camera.mp4", eyes);
+  ASSERT_GT(changed.size(), static_cast<std::size_t>(blinks.back()));
+  // Re-encoding alone differs by about 2.8 grey levels there; eyes turned to the camera by about 10.
+  for (long blink : blinks) EXPECT_LT(changed[blink], 4.0) << "frame " << blink;
+  EXPECT_GT(changed[10], 6.0);
   // A second run re-renders from the stored fits, without tracking again.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " -o " + Quote(dir / "camera.mp4") + " --offset 0,10", &output), 0) << output;
   EXPECT_NE(output.find("reusing the fits"), std::string::npos) << output;

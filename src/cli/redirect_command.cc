@@ -219,7 +219,7 @@ std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, d
   std::map<int, std::vector<long>> closed_frames;
   for (const auto& [index, frame] : fits.frames) {
     for (const StoredFit& fit : frame.faces) {
-      if (fit.phi.eyelid_closure() > closed_deg) closed_frames[fit.face_id].push_back(index);
+      if (fit.eyes_closed || fit.phi.eyelid_closure() > closed_deg) closed_frames[fit.face_id].push_back(index);
     }
   }
   std::map<long, std::map<int, double>> weights;

@@ -15,6 +15,9 @@ struct FaceFit {
   Face face;
   FitResult fit;
   bool warm = false;  // started from the previous frame's fit
+  // The landmarks saw the eyes closed (a blink in a video): the gaze was held
+  // at the last open frame's, the lids fitted.
+  bool eyes_closed = false;
   // Which eyes were fitted: both for a face, one for an eye patch.
   std::array<bool, 2> eyes = {true, true};
   // False for an eye patch, fitted from the crop's framing: `face` is empty.

@@ -386,7 +386,8 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
     if (history) *history = best_history;
     first_level = 1;
   }
-  if (!fresh && options_.jump_search_step > 0) phi = BestGaze(*levels[0].problem, phi, JumpGazes(phi, lens));
+  const bool gaze_free = mask[LayoutOf(Block::kGaze).offset];
+  if (!fresh && gaze_free && options_.jump_search_step > 0) phi = BestGaze(*levels[0].problem, phi, JumpGazes(phi, lens));
   for (int l = first_level; l < num_levels; ++l) {
     const int budget = l + 1 < num_levels ? std::max(1, options_.max_iterations / 3) : options_.max_iterations - iteration;
     result.converged = RunLevel(*levels[l].problem, l, budget, free, l == 0 ? search_centre : nullptr, phi, iteration, history);

@@ -47,6 +47,7 @@ nlohmann::json ToJson(const FaceFit& fit) {
                    {"model_pixels", terms.foreground},
                    {"iterations", fit.fit.iterations},
                    {"warm_start", fit.warm},
+                   {"eyes_closed", fit.eyes_closed},
                    {"good", fit.fit.good},
                    {"note", fit.fit.note}};
   const std::array<EyeGaze, 2> gazes = EyeGazes(fit.fit.phi);
@@ -76,7 +77,7 @@ std::vector<std::string> FitCsvColumns() {
     for (const char* axis : {"X", "Y", "Z"}) columns.push_back(fmt::format("{}_centre_{}", eye, axis));
   }
   for (const char* name : {"gaze_angle_x", "gaze_angle_y", "pose_Tx", "pose_Ty", "pose_Tz", "pose_Rx", "pose_Ry",
-                           "pose_Rz", "eyelid_pitch", "eyelid_closure", "energy", "fit_good"}) {
+                           "pose_Rz", "eyelid_pitch", "eyelid_closure", "AU45_c", "energy", "fit_good"}) {
     columns.push_back(name);
   }
   return columns;
@@ -108,6 +109,7 @@ std::vector<std::string> FitCsvRow(long frame, double timestamp_s, const FaceFit
   for (int i = 0; i < 3; ++i) row.push_back(fmt::format("{:.4f}", euler[i]));
   row.push_back(fmt::format("{:.2f}", phi.eyelid_pitch()));
   row.push_back(fmt::format("{:.2f}", phi.eyelid_closure()));
+  row.push_back(fit->eyes_closed ? "1" : "0");  // OpenFace's blink action unit
   row.push_back(fmt::format("{:.6f}", fit->fit.terms.total()));
   row.push_back(fit->fit.good ? "1" : "0");
   return row;
@@ -152,6 +154,7 @@ FitsFile ReadFits(const std::filesystem::path& path) {
         if (face.contains("fit")) {
           fit.good = face["fit"].value("good", false);
           fit.note = face["fit"].value("note", std::string());
+          fit.eyes_closed = face["fit"].value("eyes_closed", false);
         }
         if (face.contains("eyes") && !face["eyes"].empty()) {
           fit.eyes = {face["eyes"].contains("left"), face["eyes"].contains("right")};

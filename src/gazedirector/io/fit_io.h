@@ -34,6 +34,7 @@ struct StoredFit {
   bool good = false;
   std::string note;
   std::array<bool, 2> eyes = {true, true};
+  bool eyes_closed = false;  // the tracker saw a blink
 };
 
 struct StoredFrame {

@@ -20,6 +20,7 @@ FaceFit SomeFit(int id) {
   fit.fit.phi.shape()[3] = 0.75;
   fit.fit.good = id % 2 == 0;
   fit.fit.note = fit.fit.good ? "" : "the eyes do not match";
+  fit.eyes_closed = id == 1;
   return fit;
 }
 
@@ -41,6 +42,8 @@ TEST(FitIoTest, FitsWrittenAsJsonLinesReadBack) {
   EXPECT_EQ(first.faces[1].face_id, 1);
   EXPECT_FALSE(first.faces[1].good);
   EXPECT_EQ(first.faces[1].note, "the eyes do not match");
+  EXPECT_TRUE(first.faces[1].eyes_closed);
+  EXPECT_FALSE(first.faces[0].eyes_closed);
   EXPECT_NEAR(first.faces[0].phi.gaze_pitch(), -7.25, 1e-9);
   EXPECT_NEAR(first.faces[0].phi.shape()[3], 0.75, 1e-9);
   EXPECT_TRUE(file.frames.at(1).faces.empty());
@@ -52,9 +55,13 @@ TEST(FitIoTest, CsvRowsMatchTheOpenFaceColumns) {
   EXPECT_EQ(FitCsvRow(3, 0.1, &fit).size(), FitCsvColumns().size());
   EXPECT_EQ(FitCsvRow(3, 0.1, nullptr).size(), FitCsvColumns().size());
   const auto columns = FitCsvColumns();
-  for (const char* name : {"gaze_0_x", "gaze_1_z", "gaze_angle_x", "gaze_angle_y", "pose_Rx"}) {
+  for (const char* name : {"gaze_0_x", "gaze_1_z", "gaze_angle_x", "gaze_angle_y", "pose_Rx", "AU45_c"}) {
     EXPECT_NE(std::find(columns.begin(), columns.end(), name), columns.end()) << name;
   }
+  const FaceFit blinking = SomeFit(1);
+  const auto blink_column = std::find(columns.begin(), columns.end(), "AU45_c") - columns.begin();
+  EXPECT_EQ(FitCsvRow(3, 0.1, &fit)[blink_column], "0");
+  EXPECT_EQ(FitCsvRow(3, 0.1, &blinking)[blink_column], "1");
 }
 
 TEST(FitIoTest, BrokenFilesFailWithTheLine) {

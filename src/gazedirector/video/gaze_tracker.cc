@@ -43,7 +43,7 @@ void GazeTracker::Reset() {
 
 std::vector<FaceFit> GazeTracker::ProcessImage(const cv::Mat& image, const Camera& camera) {
   std::vector<FaceFit> fits;
-  for (const Face& face : faces_.DetectFaces(image, camera)) fits.push_back(Fit(image, camera, face, nullptr));
+  for (const Face& face : faces_.DetectFaces(image, camera)) fits.push_back(Fit(image, camera, face, nullptr, 0.0));
   return fits;
 }
 
@@ -52,23 +52,46 @@ std::vector<FaceFit> GazeTracker::ProcessFrame(const cv::Mat& frame, double time
   std::map<int, History> still_here;
   for (const Face& face : faces_.TrackFrame(frame, timestamp_s, camera)) {
     History& history = histories_[face.id];
-    fits.push_back(Fit(frame, camera, face, &history));
+    fits.push_back(Fit(frame, camera, face, &history, timestamp_s));
     still_here[face.id] = history;
   }
   histories_ = std::move(still_here);  // faces that left are forgotten
   return fits;
 }
 
-FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history) {
+bool GazeTracker::InABlink(double opening, double timestamp_s, History& history) const {
+  if (opening >= options_.closed_eye_fraction) {
+    history.narrow_since_s = -1;
+    return false;
+  }
+  if (history.narrow_since_s < 0) history.narrow_since_s = timestamp_s;
+  return timestamp_s - history.narrow_since_s <= options_.max_blink_s;
+}
+
+FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history,
+                         double timestamp_s) {
   FaceFit result;
   result.face = face;
+  // How open the eyes are, as a fraction of how open they usually are.
+  const double opening = history != nullptr ? history->opening.Update(SmallerEyeAspectRatio(face.landmarks)) : 1.0;
+  result.eyes_closed = history != nullptr && InABlink(opening, timestamp_s, *history);
   if (history != nullptr && history->fits > 0) {
-    // Warm start; settled parameters held.
-    warm_.options().free = history->fits >= options_.settle_frames ? options_.SettledWarm().free : options_.warm.free;
-    result.fit = warm_.FitFace(image, camera, face, &history->phi);
+    FitOptions options = history->fits >= options_.settle_frames ? options_.SettledWarm() : options_.warm;
+    Parameters start = history->phi;
+    // The lids start as far closed as the landmarks say: closing from wide
+    // open, Gauss-Newton would rather look down than close.
+    const double closure = options_.closed_lid_deg * std::max(0.0, 1.0 - opening);
+    if (result.eyes_closed) {
+      for (int i = 0; i < LayoutOf(Block::kGaze).size; ++i) options.free[LayoutOf(Block::kGaze).offset + i] = false;
+      start.eyelid_closure() = std::max(start.eyelid_closure(), closure);
+    }
+    warm_.options() = options;
+    result.fit = warm_.FitFace(image, camera, face, &start);
     result.warm = true;
-    const bool degraded = !result.fit.good || (history->typical_energy > 0 &&
-                                               result.fit.terms.total() > options_.refit_ratio * history->typical_energy);
+    // A blink's energy is unusual, and a fresh fit cannot see its gaze either.
+    const bool degraded = !result.eyes_closed &&
+                          (!result.fit.good || (history->typical_energy > 0 &&
+                                                result.fit.terms.total() > options_.refit_ratio * history->typical_energy));
     if (degraded) {
       FitResult fresh = fresh_.FitFace(image, camera, face);
       if (fresh.terms.total() < result.fit.terms.total()) {
@@ -81,8 +104,9 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
   }
   if (history != nullptr) {
     history->phi = result.fit.phi;
+    history->eyes_closed = result.eyes_closed;
     ++history->fits;
-    if (result.fit.good) {
+    if (result.fit.good && !result.eyes_closed) {
       const double energy = result.fit.terms.total();
       history->typical_energy = history->typical_energy > 0 ? 0.8 * history->typical_energy + 0.2 * energy : energy;
     }

@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "gazedirector/face/eye_opening.h"
 #include "gazedirector/face/face_tracker.h"
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/fit/fitter.h"
@@ -29,6 +30,17 @@ struct GazeTrackerOptions {
   // A warm fit whose energy exceeds this multiple of the face's typical
   // energy is redone from the landmarks (the fit lost the eyes).
   double refit_ratio = 1.8;
+  // Blinks: when the less open eye's landmark opening (eye aspect ratio)
+  // falls below this fraction of the face's usual one, the eyeballs are hidden
+  // and their gaze cannot be seen: it is held at the last open frame's while
+  // the lids are fitted, starting `closed_lid_deg` of closure short of fully open
+  // per unit of lost opening. Without this the lids closed by looking far
+  // down and aside, and the gaze swung to its limits for the blink's frames.
+  // Eyes that stay that narrow for longer than a blink are looking down (the
+  // lids follow the gaze) or squinting: their gaze is fitted again.
+  double closed_eye_fraction = 0.6;
+  double closed_lid_deg = 42;
+  double max_blink_s = 0.5;
   // The warm options with the settled parameters held.
   FitOptions SettledWarm() const;
 };
@@ -51,8 +63,13 @@ class GazeTracker {
     Parameters phi;
     int fits = 0;
     double typical_energy = 0;  // running average of good fits' energies
+    EyeOpeningTracker opening;
+    double narrow_since_s = -1;  // when the eyes became narrower than a blink's threshold; -1 while open
+    bool eyes_closed = false;    // in the last frame
   };
-  FaceFit Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history);
+  FaceFit Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history, double timestamp_s);
+  // Whether eyes at `opening` (a fraction of their usual opening) are closed in a blink.
+  bool InABlink(double opening, double timestamp_s, History& history) const;
 
   std::shared_ptr<const EyeRegionModel> model_;
   GazeTrackerOptions options_;

@@ -70,5 +70,43 @@ TEST(GazeTrackerTest, ATrackThatLosesTheIrisFindsItAgain) {
   EXPECT_NEAR(last.fit.phi.gaze_pitch(), fresh[0].fit.phi.gaze_pitch(), 10.0);
 }
 
+// d14.mp4 blinks at frames 16-21. While the landmarks see the eyes closed the
+// gaze is held at the last open frame's and the lids close; before, the fit
+// closed the lids by looking 25 degrees down and swung the yaw to its limit.
+TEST(GazeTrackerTest, ABlinkHoldsTheGazeAndClosesTheLids) {
+  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  VideoReader reader(testing::DataPath("video/d14.mp4"));
+  const Camera camera = Camera::Default(reader.info().width, reader.info().height);
+  std::vector<FaceFit> track;
+  cv::Mat frame;
+  while (track.size() < 30 && reader.Read(frame)) {
+    const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    ASSERT_EQ(fits.size(), 1u) << track.size();
+    track.push_back(fits[0]);
+  }
+  ASSERT_EQ(track.size(), 30u);
+  int last_open = 15;
+  while (last_open > 0 && track[last_open].eyes_closed) --last_open;
+  EXPECT_GE(last_open, 14);
+  const Parameters& open = track[last_open].fit.phi;
+  for (int i = 0; i < 30; ++i) {
+    const Parameters& phi = track[i].fit.phi;
+    EXPECT_LT(std::abs(phi.gaze_yaw()), 30.0) << i;
+    EXPECT_LT(std::abs(phi.gaze_pitch()), 20.0) << i;
+    if (i <= 14 || i >= 23) {
+      EXPECT_FALSE(track[i].eyes_closed) << i;
+    }
+    if (i >= 17 && i <= 20) {
+      EXPECT_TRUE(track[i].eyes_closed) << i;
+      EXPECT_EQ(phi.gaze_pitch(), open.gaze_pitch()) << i;
+      EXPECT_EQ(phi.gaze_yaw(), open.gaze_yaw()) << i;
+      EXPECT_GT(phi.eyelid_closure(), 15.0) << i;
+    }
+  }
+  // Open again, the eyes look about where they did before the blink.
+  for (int i = 24; i < 30; ++i) EXPECT_NEAR(track[i].fit.phi.gaze_yaw(), open.gaze_yaw(), 8.0) << i;
+}
+
 }  // namespace
 }  // namespace gazedirector
