@@ -133,7 +133,27 @@ std::vector<Fitter::Level> Fitter::Pyramid(const cv::Mat& image, const cv::Rect2
 }
 
 FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters* start) {
-  Parameters phi = start ? *start : InitializeFromLandmarks(face, camera, *model_);
+  return FitFaceFrom(image, camera, face, start ? *start : InitializeFromLandmarks(face, camera, *model_),
+                     start == nullptr);
+}
+
+FitResult Fitter::RefitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters& known) {
+  Parameters phi = InitializeFromLandmarks(face, camera, *model_);
+  for (int i = 0; i < kNumParameters; ++i) {
+    if (!options_.free[i]) phi.values[i] = known.values[i];
+  }
+  // The light starts as it was too: a basic light under a held, fitted
+  // texture can lose its directional part for good (its direction has no
+  // gradient once its colour reaches zero).
+  for (Block block : {Block::kAmbient, Block::kLightColour, Block::kLightDirection}) {
+    const BlockLayout& layout = LayoutOf(block);
+    phi.values.segment(layout.offset, layout.size) = known.values.segment(layout.offset, layout.size);
+  }
+  return FitFaceFrom(image, camera, face, phi, /*fresh=*/true);
+}
+
+FitResult Fitter::FitFaceFrom(const cv::Mat& image, const Camera& camera, const Face& face, Parameters phi,
+                              bool fresh) {
   // The fitted region: the model's extent at the start, in the image.
   PosedModel posed;
   PoseWorkspace pose_work;
@@ -153,8 +173,7 @@ FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face
   }
   const double scale = std::min(3.0, static_cast<double>(options_.work_width) / region.width);
   std::vector<Level> levels = Pyramid(image, region, camera, landmarks_, targets, weights, {true, true}, scale);
-  ParameterMask free = options_.free;
-  FitResult result = Solve(levels, phi, free, start == nullptr);
+  FitResult result = Solve(levels, phi, options_.free, fresh);
   result.region = region;
   return result;
 }

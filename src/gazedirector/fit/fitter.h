@@ -81,6 +81,11 @@ class Fitter {
   // Both eye regions of a face, from its landmarks, or from `start` (the
   // previous video frame's Φ) when given.
   FitResult FitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters* start = nullptr);
+  // A fresh fit from the landmarks (gaze search and all) in which the
+  // parameters the options hold fixed keep `known`'s values and the light
+  // starts at `known`'s: a video's settled shape and texture survive a refit
+  // on an unusual frame.
+  FitResult RefitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters& known);
 
   // One eye region in a crop of a single eye (as the Columbia crops): the eye
   // sits at the crop's centre, its corners (the canthi) `corner_distance` of
@@ -106,6 +111,7 @@ class Fitter {
   struct Level {
     std::unique_ptr<FittingProblem> problem;
   };
+  FitResult FitFaceFrom(const cv::Mat& image, const Camera& camera, const Face& face, Parameters phi, bool fresh);
   // `fresh`: not warm-started, so search gaze and try several pitches.
   FitResult Solve(std::vector<Level>& levels, Parameters phi, const ParameterMask& free, bool fresh);
   // With `search_centre` (gaze pitch, yaw in degrees), searches a grid of gazes around it after the first step.

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "gazedirector/face/face_tracker.h"
 #include "gazedirector/fit/landmark_model.h"
+#include "gazedirector/io/image_io.h"
 #include "gazedirector/render/renderer.h"
 #include "tests/test_data.h"
 
@@ -81,6 +83,33 @@ INSTANTIATE_TEST_SUITE_P(Gazes, SyntheticEyePatchTest,
                            const SyntheticCase& c = info.param;
                            return name("Head", c.head_yaw) + name("Pitch", c.pitch) + name("Yaw", c.yaw);
                          });
+
+// A refit of a video's face starts afresh from the landmarks but keeps what
+// the options hold (its settled shape and texture) at the values given.
+TEST(FitterTest, ARefitKeepsTheHeldParametersAndFindsTheGaze) {
+  const cv::Mat image = ReadImage(testing::DataPath("images/d30.jpg"));
+  const Camera camera = Camera::Default(image.cols, image.rows);
+  FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  const std::vector<Face> faces = tracker.DetectFaces(image, camera);
+  ASSERT_EQ(faces.size(), 1u);
+  Fitter fitter(Model());
+  const FitResult first = fitter.FitFace(image, camera, faces[0]);
+  ASSERT_TRUE(first.good) << first.note;
+  ASSERT_GT(first.phi.shape().norm(), 0.5);  // far enough from the mean to tell
+
+  FitOptions holding;
+  for (Block block : {Block::kShape, Block::kTexture}) {
+    for (int i = 0; i < LayoutOf(block).size; ++i) holding.free[LayoutOf(block).offset + i] = false;
+  }
+  fitter.options() = holding;
+  const FitResult refit = fitter.RefitFace(image, camera, faces[0], first.phi);
+  EXPECT_EQ(refit.phi.shape(), first.phi.shape());
+  EXPECT_EQ(refit.phi.texture(), first.phi.texture());
+  EXPECT_TRUE(refit.good) << refit.note;
+  EXPECT_NEAR(refit.phi.gaze_pitch(), first.phi.gaze_pitch(), 3.0);
+  EXPECT_NEAR(refit.phi.gaze_yaw(), first.phi.gaze_yaw(), 3.0);
+  EXPECT_LT(refit.terms.total(), 1.1 * first.terms.total());
+}
 
 }  // namespace
 }  // namespace gazedirector

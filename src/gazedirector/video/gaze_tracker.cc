@@ -3,6 +3,19 @@
 #include <algorithm>
 
 namespace gazedirector {
+namespace {
+
+// Holds the parameters that settle in a video: shape, texture (skin, iris
+// colour, sclera tint), iris size and interocular distance.
+FitOptions HoldSettled(FitOptions options) {
+  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kIrisColour, Block::kScleraTint,
+                      Block::kInterocular}) {
+    for (int i = 0; i < LayoutOf(block).size; ++i) options.free[LayoutOf(block).offset + i] = false;
+  }
+  return options;
+}
+
+}  // namespace
 
 FitOptions WarmFitOptions() {
   FitOptions options;
@@ -14,14 +27,7 @@ FitOptions WarmFitOptions() {
   return options;
 }
 
-FitOptions GazeTrackerOptions::SettledWarm() const {
-  FitOptions settled = warm;
-  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kIrisColour, Block::kScleraTint,
-                      Block::kInterocular}) {
-    for (int i = 0; i < LayoutOf(block).size; ++i) settled.free[LayoutOf(block).offset + i] = false;
-  }
-  return settled;
-}
+FitOptions GazeTrackerOptions::SettledWarm() const { return HoldSettled(warm); }
 
 GazeTracker::GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::shared_ptr<const LandmarkDetector> landmarks,
                          MeanFace mean_face, GazeTrackerOptions options, std::shared_ptr<ThreadPool> pool,
@@ -76,7 +82,8 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
   const double opening = history != nullptr ? history->opening.Update(SmallerEyeAspectRatio(face.landmarks)) : 1.0;
   result.eyes_closed = history != nullptr && InABlink(opening, timestamp_s, *history);
   if (history != nullptr && history->fits > 0) {
-    FitOptions options = history->fits >= options_.settle_frames ? options_.SettledWarm() : options_.warm;
+    const bool settled = history->fits >= options_.settle_frames;
+    FitOptions options = settled ? options_.SettledWarm() : options_.warm;
     Parameters start = history->phi;
     // The lids start as far closed as the landmarks say: closing from wide
     // open, Gauss-Newton would rather look down than close.
@@ -93,13 +100,18 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
                           (!result.fit.good || (history->typical_energy > 0 &&
                                                 result.fit.terms.total() > options_.refit_ratio * history->typical_energy));
     if (degraded) {
-      FitResult fresh = fresh_.FitFace(image, camera, face);
+      // A settled face keeps its shape and texture: refits happen on unusual
+      // frames (a half-closed eye, a fast turn), the worst to learn them from.
+      fresh_.options() = settled ? HoldSettled(options_.fresh) : options_.fresh;
+      FitResult fresh = settled ? fresh_.RefitFace(image, camera, face, history->phi)
+                                : fresh_.FitFace(image, camera, face);
       if (fresh.terms.total() < result.fit.terms.total()) {
         result.fit = fresh;
         result.warm = false;
       }
     }
   } else {
+    fresh_.options() = options_.fresh;
     result.fit = fresh_.FitFace(image, camera, face);
   }
   if (history != nullptr) {

@@ -108,5 +108,31 @@ TEST(GazeTrackerTest, ABlinkHoldsTheGazeAndClosesTheLids) {
   for (int i = 24; i < 30; ++i) EXPECT_NEAR(track[i].fit.phi.gaze_yaw(), open.gaze_yaw(), 8.0) << i;
 }
 
+// d14.mp4 blinks at frame 108 and opens its eyes only halfway until frame
+// 120. A fit that degrades there is redone from the landmarks; that refit
+// used to learn the face's shape and texture anew from the half-closed eyes,
+// and the warm fits that followed held them: the track read the open eyes of
+// frames 270-420 as looking 15-20 degrees down with the lids pulled open.
+TEST(GazeTrackerTest, ARefitKeepsTheSettledShapeAndTexture) {
+  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  VideoReader reader(testing::DataPath("video/d14.mp4"));
+  const Camera camera = Camera::Default(reader.info().width, reader.info().height);
+  const int settle = GazeTrackerOptions().settle_frames;
+  cv::Mat frame;
+  Parameters settled;
+  for (int index = 0; index < 118 && reader.Read(frame); ++index) {
+    const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    ASSERT_EQ(fits.size(), 1u) << index;
+    const Parameters& phi = fits[0].fit.phi;
+    if (index == settle) settled = phi;
+    if (index > settle) {
+      ASSERT_EQ(phi.shape(), settled.shape()) << index << (fits[0].warm ? "" : " (refitted)");
+      ASSERT_EQ(phi.texture(), settled.texture()) << index;
+      ASSERT_EQ(phi.iris_colour(), settled.iris_colour()) << index;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gazedirector
