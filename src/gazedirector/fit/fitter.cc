@@ -138,16 +138,13 @@ FitResult Fitter::FitFace(const cv::Mat& image, const Camera& camera, const Face
 }
 
 FitResult Fitter::RefitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters& known) {
-  Parameters phi = InitializeFromLandmarks(face, camera, *model_);
-  for (int i = 0; i < kNumParameters; ++i) {
-    if (!options_.free[i]) phi.values[i] = known.values[i];
-  }
   // The light starts as it was too: a basic light under a held, fitted
   // texture can lose its directional part for good (its direction has no
   // gradient once its colour reaches zero).
-  for (Block block : {Block::kAmbient, Block::kLightColour, Block::kLightDirection}) {
-    const BlockLayout& layout = LayoutOf(block);
-    phi.values.segment(layout.offset, layout.size) = known.values.segment(layout.offset, layout.size);
+  const ParameterMask light = MaskOf({Block::kAmbient, Block::kLightColour, Block::kLightDirection});
+  Parameters phi = InitializeFromLandmarks(face, camera, *model_);
+  for (int i = 0; i < kNumParameters; ++i) {
+    if (!options_.free[i] || light[i]) phi.values[i] = known.values[i];
   }
   return FitFaceFrom(image, camera, face, phi, /*fresh=*/true);
 }

@@ -98,9 +98,7 @@ TEST(FitterTest, ARefitKeepsTheHeldParametersAndFindsTheGaze) {
   ASSERT_GT(first.phi.shape().norm(), 0.5);  // far enough from the mean to tell
 
   FitOptions holding;
-  for (Block block : {Block::kShape, Block::kTexture}) {
-    for (int i = 0; i < LayoutOf(block).size; ++i) holding.free[LayoutOf(block).offset + i] = false;
-  }
+  Hold(holding.free, {Block::kShape, Block::kTexture});
   fitter.options() = holding;
   const FitResult refit = fitter.RefitFace(image, camera, faces[0], first.phi);
   EXPECT_EQ(refit.phi.shape(), first.phi.shape());

@@ -18,6 +18,11 @@ ParameterMask MaskOf(std::initializer_list<Block> blocks) {
   return mask;
 }
 
+void Hold(ParameterMask& free, std::initializer_list<Block> blocks) {
+  const ParameterMask held = MaskOf(blocks);
+  for (int i = 0; i < kNumParameters; ++i) free[i] = free[i] && !held[i];
+}
+
 ParameterMask AllParameters() {
   ParameterMask mask;
   mask.fill(true);

@@ -64,6 +64,8 @@ constexpr const BlockLayout& LayoutOf(Block block) { return kBlockLayout[static_
 // A mask over the parameters: which are optimised (true) and which held.
 using ParameterMask = std::array<bool, kNumParameters>;
 ParameterMask MaskOf(std::initializer_list<Block> blocks);
+// Marks the blocks' parameters held (false) in a mask of free parameters.
+void Hold(ParameterMask& free, std::initializer_list<Block> blocks);
 ParameterMask AllParameters();
 
 class Parameters {

@@ -41,6 +41,16 @@ TEST(ParametersTest, JsonRoundTripsAndRejectsUnknownOrMisshapenBlocks) {
   EXPECT_EQ(partial.interocular(), Parameters().interocular());
 }
 
+TEST(ParametersTest, HoldingBlocksLeavesTheOthersAsTheyWere) {
+  ParameterMask free = AllParameters();
+  free[LayoutOf(Block::kRotation).offset] = false;
+  Hold(free, {Block::kShape, Block::kGaze});
+  const ParameterMask held = MaskOf({Block::kShape, Block::kGaze});
+  for (int i = 0; i < kNumParameters; ++i) {
+    EXPECT_EQ(free[i], !held[i] && i != LayoutOf(Block::kRotation).offset) << i;
+  }
+}
+
 TEST(ParametersTest, LightDirectionFollowsItsAngles) {
   Parameters phi;
   phi.block<Block::kLightDirection>() = Eigen::Vector2d(0, 0);

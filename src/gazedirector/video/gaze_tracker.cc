@@ -8,10 +8,8 @@ namespace {
 // Holds the parameters that settle in a video: shape, texture (skin, iris
 // colour, sclera tint), iris size and interocular distance.
 FitOptions HoldSettled(FitOptions options) {
-  for (Block block : {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kIrisColour, Block::kScleraTint,
-                      Block::kInterocular}) {
-    for (int i = 0; i < LayoutOf(block).size; ++i) options.free[LayoutOf(block).offset + i] = false;
-  }
+  Hold(options.free, {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kIrisColour, Block::kScleraTint,
+                      Block::kInterocular});
   return options;
 }
 
@@ -85,12 +83,11 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
     const bool settled = history->fits >= options_.settle_frames;
     FitOptions options = settled ? options_.SettledWarm() : options_.warm;
     Parameters start = history->phi;
-    // The lids start as far closed as the landmarks say: closing from wide
-    // open, Gauss-Newton would rather look down than close.
-    const double closure = options_.closed_lid_deg * std::max(0.0, 1.0 - opening);
     if (result.eyes_closed) {
-      for (int i = 0; i < LayoutOf(Block::kGaze).size; ++i) options.free[LayoutOf(Block::kGaze).offset + i] = false;
-      start.eyelid_closure() = std::max(start.eyelid_closure(), closure);
+      Hold(options.free, {Block::kGaze});
+      // The lids start as far closed as the landmarks say: closing from wide
+      // open, Gauss-Newton would rather look down than close.
+      start.eyelid_closure() = std::max(start.eyelid_closure(), options_.closed_lid_deg * (1.0 - opening));
     }
     warm_.options() = options;
     result.fit = warm_.FitFace(image, camera, face, &start);
@@ -116,7 +113,6 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
   }
   if (history != nullptr) {
     history->phi = result.fit.phi;
-    history->eyes_closed = result.eyes_closed;
     ++history->fits;
     if (result.fit.good && !result.eyes_closed) {
       const double energy = result.fit.terms.total();

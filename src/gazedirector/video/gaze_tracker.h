@@ -65,7 +65,6 @@ class GazeTracker {
     double typical_energy = 0;  // running average of good fits' energies
     EyeOpeningTracker opening;
     double narrow_since_s = -1;  // when the eyes became narrower than a blink's threshold; -1 while open
-    bool eyes_closed = false;    // in the last frame
   };
   FaceFit Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history, double timestamp_s);
   // Whether eyes at `opening` (a fraction of their usual opening) are closed in a blink.
