@@ -7,6 +7,9 @@
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
 #include <immintrin.h>
 #define GAZEDIRECTOR_AVX512 1
+#elif defined(__AVX2__)
+#include <immintrin.h>
+#define GAZEDIRECTOR_AVX2 1
 #endif
 
 // This file is compiled with -ffp-contract=off: the scalar and vector paths
@@ -20,6 +23,10 @@ constexpr int32_t kMaxCoordinate = 8192 * kOne;  // farther vertices mean an off
 // Triangles narrower and shorter than this keep every edge value in 32 bits.
 constexpr int32_t kSmall = 1024 * kOne;
 constexpr float kNearDepth = 1.0f;  // mm
+// The buffers run this many elements past their last pixel, so that a row's
+// last eight pixels can be loaded and stored whole (AVX2 has no fast masked
+// store on AMD).
+constexpr std::size_t kPadding = 8;
 
 // Twice the signed area of (a, b, p), positive when p lies to the right of
 // a -> b on the y-down screen.
@@ -54,7 +61,7 @@ struct VisibilityBuffer::Prepared {
 void VisibilityBuffer::Reset(int width, int height) {
   width_ = width;
   height_ = height;
-  const std::size_t n = static_cast<std::size_t>(width) * height;
+  const std::size_t n = static_cast<std::size_t>(width) * height + kPadding;
   depth_.assign(n, std::numeric_limits<float>::infinity());
   triangle_.assign(n, -1);
   b1_.resize(n);
@@ -62,10 +69,35 @@ void VisibilityBuffer::Reset(int width, int height) {
 }
 
 void VisibilityBuffer::FillRows(const Prepared& p) {
+#if defined(GAZEDIRECTOR_AVX512) || defined(GAZEDIRECTOR_AVX2)
+  if (vectorized_) {
+    FillRowsVectorized(p);
+    return;
+  }
+#endif
   int32_t row0 = p.row[0], row1 = p.row[1], row2 = p.row[2];
-#if defined(GAZEDIRECTOR_AVX512)
-  // Eight pixels of a row at a time with AVX-512 masks (AVX2's masked stores
-  // are microcoded and slow on AMD).
+  for (int y = p.y0; y <= p.y1; ++y) {
+    int32_t w0 = row0, w1 = row1, w2 = row2;
+    int pixel = y * width_ + p.x0;
+    for (int x = p.x0; x <= p.x1; ++x, ++pixel) {
+      if ((w0 | w1 | w2) >= 0) {
+        const float b1 = static_cast<float>(w1 - p.bias1) * p.inverse_area;
+        const float b2 = static_cast<float>(w2 - p.bias2) * p.inverse_area;
+        const float z = p.z0 + b1 * p.dz1 + b2 * p.dz2;
+        if (z < depth_[pixel]) {
+          depth_[pixel] = z, triangle_[pixel] = p.id, b1_[pixel] = b1, b2_[pixel] = b2;
+        }
+      }
+      w0 += p.step_x[0], w1 += p.step_x[1], w2 += p.step_x[2];
+    }
+    row0 += p.step_y[0], row1 += p.step_y[1], row2 += p.step_y[2];
+  }
+}
+
+#if defined(GAZEDIRECTOR_AVX512) || defined(GAZEDIRECTOR_AVX2)
+// Eight pixels of a row at a time.
+void VisibilityBuffer::FillRowsVectorized(const Prepared& p) {
+  int32_t row0 = p.row[0], row1 = p.row[1], row2 = p.row[2];
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i lane_x0 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(p.step_x[0]));
   const __m256i lane_x1 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(p.step_x[1]));
@@ -77,6 +109,8 @@ void VisibilityBuffer::FillRows(const Prepared& p) {
   const __m256 z0 = _mm256_set1_ps(p.z0), dz1 = _mm256_set1_ps(p.dz1), dz2 = _mm256_set1_ps(p.dz2);
   const __m256i ids = _mm256_set1_epi32(p.id);
   const __m256i minus_one = _mm256_set1_epi32(-1);
+#if defined(GAZEDIRECTOR_AVX512)
+  // AVX-512's masks select the pixels to write.
   for (int y = p.y0; y <= p.y1; ++y) {
     __m256i w0 = _mm256_add_epi32(_mm256_set1_epi32(row0), lane_x0);
     __m256i w1 = _mm256_add_epi32(_mm256_set1_epi32(row1), lane_x1);
@@ -103,24 +137,41 @@ void VisibilityBuffer::FillRows(const Prepared& p) {
     row0 += p.step_y[0], row1 += p.step_y[1], row2 += p.step_y[2];
   }
 #else
+  // AVX2: whole eight-pixel stores of the old values blended with the new
+  // ones (the buffers' padding keeps the last row's in bounds).
   for (int y = p.y0; y <= p.y1; ++y) {
-    int32_t w0 = row0, w1 = row1, w2 = row2;
-    int pixel = y * width_ + p.x0;
-    for (int x = p.x0; x <= p.x1; ++x, ++pixel) {
-      if ((w0 | w1 | w2) >= 0) {
-        const float b1 = static_cast<float>(w1 - p.bias1) * p.inverse_area;
-        const float b2 = static_cast<float>(w2 - p.bias2) * p.inverse_area;
-        const float z = p.z0 + b1 * p.dz1 + b2 * p.dz2;
-        if (z < depth_[pixel]) {
-          depth_[pixel] = z, triangle_[pixel] = p.id, b1_[pixel] = b1, b2_[pixel] = b2;
+    __m256i w0 = _mm256_add_epi32(_mm256_set1_epi32(row0), lane_x0);
+    __m256i w1 = _mm256_add_epi32(_mm256_set1_epi32(row1), lane_x1);
+    __m256i w2 = _mm256_add_epi32(_mm256_set1_epi32(row2), lane_x2);
+    const int row_start = y * width_;
+    for (int x = p.x0; x <= p.x1; x += 8) {
+      const __m256i in_row = _mm256_cmpgt_epi32(_mm256_set1_epi32(p.x1 - x + 1), lanes);
+      const __m256i inside =
+          _mm256_and_si256(in_row, _mm256_cmpgt_epi32(_mm256_or_si256(_mm256_or_si256(w0, w1), w2), minus_one));
+      if (!_mm256_testz_si256(inside, inside)) {
+        const __m256 b1 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w1, unbias1)), inverse);
+        const __m256 b2 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w2, unbias2)), inverse);
+        const __m256 z = _mm256_add_ps(_mm256_add_ps(z0, _mm256_mul_ps(b1, dz1)), _mm256_mul_ps(b2, dz2));
+        float* depth = depth_.data() + row_start + x;
+        const __m256 old_depth = _mm256_loadu_ps(depth);
+        const __m256 nearer = _mm256_and_ps(_mm256_castsi256_ps(inside), _mm256_cmp_ps(z, old_depth, _CMP_LT_OQ));
+        if (!_mm256_testz_ps(nearer, nearer)) {
+          _mm256_storeu_ps(depth, _mm256_blendv_ps(old_depth, z, nearer));
+          float* ids_out = reinterpret_cast<float*>(triangle_.data() + row_start + x);
+          _mm256_storeu_ps(ids_out, _mm256_blendv_ps(_mm256_loadu_ps(ids_out), _mm256_castsi256_ps(ids), nearer));
+          float* b1_out = b1_.data() + row_start + x;
+          _mm256_storeu_ps(b1_out, _mm256_blendv_ps(_mm256_loadu_ps(b1_out), b1, nearer));
+          float* b2_out = b2_.data() + row_start + x;
+          _mm256_storeu_ps(b2_out, _mm256_blendv_ps(_mm256_loadu_ps(b2_out), b2, nearer));
         }
       }
-      w0 += p.step_x[0], w1 += p.step_x[1], w2 += p.step_x[2];
+      w0 = _mm256_add_epi32(w0, eight_x0), w1 = _mm256_add_epi32(w1, eight_x1), w2 = _mm256_add_epi32(w2, eight_x2);
     }
     row0 += p.step_y[0], row1 += p.step_y[1], row2 += p.step_y[2];
   }
 #endif
 }
+#endif
 
 // A triangle of any size (up to the coordinate limit), with 64-bit edge values.
 void VisibilityBuffer::FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area,
@@ -162,13 +213,89 @@ void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i*
   const Eigen::Vector4i clip(std::max(0, clip_window[0]), std::max(0, clip_window[1]),
                              std::min(width_ - 1, clip_window[2]), std::min(height_ - 1, clip_window[3]));
   if (clip[0] > clip[2] || clip[1] > clip[3]) return;
+  if (vectorized_) {
 #if defined(GAZEDIRECTOR_AVX512)
-  if (vectorized_setup_) {
     DrawBatches(vertices, triangles, num_triangles, id_offset, clip);
+#else
+    DrawBatchesPortable(vertices, triangles, num_triangles, id_offset, clip);
+#endif
     return;
   }
-#endif
   for (int t = 0; t < num_triangles; ++t) DrawOne(vertices, triangles[t], id_offset + t, clip);
+}
+
+// Eight triangles at a time: their culling, clipping and edge setup are
+// branch-free loops over the lanes, which the compiler vectorizes (AVX2);
+// the survivors are then filled in order. Unsigned arithmetic wraps where a
+// large triangle's values overflow; those lanes take the scalar path.
+void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
+                                           int num_triangles, int32_t id_offset, const Eigen::Vector4i& clip) {
+  constexpr int kLanes = 8;
+  const int32_t left = clip[0] * kOne, top = clip[1] * kOne, right = clip[2] * kOne, bottom = clip[3] * kOne;
+  const int32_t clip_x0 = clip[0], clip_y0 = clip[1], clip_x1 = clip[2], clip_y1 = clip[3];
+  alignas(32) int32_t ax[kLanes], ay[kLanes], bx[kLanes], by[kLanes], cx[kLanes], cy[kLanes];
+  alignas(32) float az[kLanes], bz[kLanes], cz[kLanes];
+  alignas(32) int32_t fill[kLanes], large[kLanes], row0[kLanes], row1[kLanes], row2[kLanes], bias1[kLanes],
+      bias2[kLanes], x0s[kLanes], x1s[kLanes], y0s[kLanes], y1s[kLanes];
+  alignas(32) float inverse[kLanes];
+  auto top_left_bias = [](int32_t dx, int32_t dy) -> int32_t { return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1; };
+  // (to - from) x (p - from) as Edge() computes it, wrapping instead of overflowing.
+  auto edge = [](int32_t from_x, int32_t from_y, int32_t to_x, int32_t to_y, int32_t px, int32_t py) {
+    return static_cast<int32_t>(static_cast<uint32_t>(to_y - from_y) * static_cast<uint32_t>(px - from_x) -
+                                static_cast<uint32_t>(to_x - from_x) * static_cast<uint32_t>(py - from_y));
+  };
+  for (int first = 0; first < num_triangles; first += kLanes) {
+    const int count = std::min(kLanes, num_triangles - first);
+    for (int i = 0; i < kLanes; ++i) {
+      // Lanes past the end repeat the last triangle and are never drawn.
+      const Eigen::Vector3i& t = triangles[first + std::min(i, count - 1)];
+      const ScreenVertex &a = vertices[t[0]], &b = vertices[t[1]], &c = vertices[t[2]];
+      ax[i] = a.x, ay[i] = a.y, az[i] = a.z, bx[i] = b.x, by[i] = b.y, bz[i] = b.z, cx[i] = c.x, cy[i] = c.y, cz[i] = c.z;
+    }
+    for (int i = 0; i < kLanes; ++i) {
+      const int32_t min_x = std::min(ax[i], std::min(bx[i], cx[i])), max_x = std::max(ax[i], std::max(bx[i], cx[i]));
+      const int32_t min_y = std::min(ay[i], std::min(by[i], cy[i])), max_y = std::max(ay[i], std::max(by[i], cy[i]));
+      const bool on_window = (i < count) & (max_x >= left) & (max_y >= top) & (min_x <= right) & (min_y <= bottom);
+      const bool small = (max_x - min_x < kSmall) & (max_y - min_y < kSmall) & (min_x >= -kMaxCoordinate) &
+                         (min_y >= -kMaxCoordinate) & (max_x <= kMaxCoordinate) & (max_y <= kMaxCoordinate);
+      const int32_t area = edge(ax[i], ay[i], bx[i], by[i], cx[i], cy[i]);
+      const bool in_front = (area > 0) & (az[i] >= kNearDepth) & (bz[i] >= kNearDepth) & (cz[i] >= kNearDepth);
+      const int32_t x0 = std::max(clip_x0, (min_x + kOne - 1) >> kSubpixelBits), x1 = std::min(clip_x1, max_x >> kSubpixelBits);
+      const int32_t y0 = std::max(clip_y0, (min_y + kOne - 1) >> kSubpixelBits), y1 = std::min(clip_y1, max_y >> kSubpixelBits);
+      fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
+      large[i] = on_window & !small;
+      const int32_t px = x0 * kOne, py = y0 * kOne;
+      bias1[i] = top_left_bias(ax[i] - cx[i], ay[i] - cy[i]);
+      bias2[i] = top_left_bias(bx[i] - ax[i], by[i] - ay[i]);
+      row0[i] = edge(bx[i], by[i], cx[i], cy[i], px, py) + top_left_bias(cx[i] - bx[i], cy[i] - by[i]);
+      row1[i] = edge(cx[i], cy[i], ax[i], ay[i], px, py) + bias1[i];
+      row2[i] = edge(ax[i], ay[i], bx[i], by[i], px, py) + bias2[i];
+      inverse[i] = 1.0f / static_cast<float>(area);
+      x0s[i] = x0, x1s[i] = x1, y0s[i] = y0, y1s[i] = y1;
+    }
+    for (int i = 0; i < count; ++i) {
+      const int32_t id = id_offset + first + i;
+      if (large[i]) {
+        DrawOne(vertices, triangles[first + i], id, clip);
+      } else if (fill[i]) {
+        const Prepared p{{row0[i], row1[i], row2[i]},
+                         {(cy[i] - by[i]) * kOne, (ay[i] - cy[i]) * kOne, (by[i] - ay[i]) * kOne},
+                         {(bx[i] - cx[i]) * kOne, (cx[i] - ax[i]) * kOne, (ax[i] - bx[i]) * kOne},
+                         bias1[i],
+                         bias2[i],
+                         inverse[i],
+                         az[i],
+                         bz[i] - az[i],
+                         cz[i] - az[i],
+                         x0s[i],
+                         x1s[i],
+                         y0s[i],
+                         y1s[i],
+                         id};
+        FillRows(p);
+      }
+    }
+  }
 }
 
 void VisibilityBuffer::DrawOne(const ScreenVertex* vertices, const Eigen::Vector3i& triangle, int32_t id,

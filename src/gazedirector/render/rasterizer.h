@@ -61,10 +61,11 @@ class VisibilityBuffer {
   // The indices of covered pixels, in raster order.
   void CollectCovered(std::vector<int>& pixels) const;
 
-  // Whether triangles are set up sixteen at a time with AVX-512 where the
-  // processor has it (the default); off, every triangle takes the scalar
-  // path. Both give identical buffers.
-  void set_vectorized_setup(bool on) { vectorized_setup_ = on; }
+  // Whether vector instructions are used where the build has them (the
+  // default): rows are filled eight pixels at a time with AVX2 or AVX-512, and
+  // with AVX-512 triangles are also set up sixteen at a time. Off, every
+  // triangle takes the scalar path. Both give identical buffers.
+  void set_vectorized(bool on) { vectorized_ = on; }
 
  private:
   int width_ = 0;
@@ -78,11 +79,14 @@ class VisibilityBuffer {
   void DrawOne(const ScreenVertex* vertices, const Eigen::Vector3i& triangle, int32_t id, const Eigen::Vector4i& clip);
   void DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles, int32_t id_offset,
                    const Eigen::Vector4i& clip);
+  void DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
+                           int32_t id_offset, const Eigen::Vector4i& clip);
   void FillRows(const Prepared& triangle);
+  void FillRowsVectorized(const Prepared& triangle);
   void FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1,
                  int y0, int y1, int32_t id);
 
-  bool vectorized_setup_ = true;
+  bool vectorized_ = true;
 };
 
 }  // namespace gazedirector

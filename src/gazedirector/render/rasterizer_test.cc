@@ -67,9 +67,9 @@ TEST(RasterizerTest, BarycentricsReproduceThePixelPosition) {
   EXPECT_GT(checked, 40);
 }
 
-// The vectorized triangle setup must give exactly the scalar path's buffers,
-// on the real model and on random triangles of all sizes.
-TEST(RasterizerTest, VectorizedSetupMatchesTheScalarPathBitForBit) {
+// The vectorized setup and fill must give exactly the scalar path's buffers,
+// on random triangles of all sizes.
+TEST(RasterizerTest, VectorizedPathMatchesTheScalarPathBitForBit) {
   std::mt19937 random(3);
   std::uniform_real_distribution<float> coordinate(-30.0f, 130.0f), depth(50.0f, 60.0f);
   std::vector<ScreenVertex> vertices;
@@ -85,7 +85,7 @@ TEST(RasterizerTest, VectorizedSetupMatchesTheScalarPathBitForBit) {
   VisibilityBuffer vectorized, scalar;
   vectorized.Reset(100, 100);
   scalar.Reset(100, 100);
-  scalar.set_vectorized_setup(false);
+  scalar.set_vectorized(false);
   vectorized.Draw(vertices.data(), triangles.data(), static_cast<int>(triangles.size()), 0, Eigen::Vector4i(5, 0, 90, 99));
   scalar.Draw(vertices.data(), triangles.data(), static_cast<int>(triangles.size()), 0, Eigen::Vector4i(5, 0, 90, 99));
   for (int i = 0; i < vectorized.size(); ++i) {
