@@ -51,9 +51,16 @@ float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) con
   return eyeball ? scale * static_cast<float>(std::sqrt(weights_.eyeball_pixels)) : scale;
 }
 
+void EvaluationWorkspace::Render(const Parameters& phi, const Camera& camera, std::array<bool, 2> eyes) {
+  if (holds_render_ && eyes == rendered_eyes_ && camera == rendered_camera_ && phi.values == rendered_phi_.values) return;
+  renderer.set_eyes(eyes[0], eyes[1]);
+  renderer.Render(phi, camera, buffers);
+  holds_render_ = true;
+  rendered_phi_ = phi, rendered_camera_ = camera, rendered_eyes_ = eyes;
+}
+
 EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace& work, Eigen::VectorXf* residuals) const {
-  work.renderer.set_eyes(eyes_[0], eyes_[1]);
-  work.renderer.Render(phi, camera_, work.buffers);
+  work.Render(phi, camera_, eyes_);
   const RenderBuffers& buffers = work.buffers;
   EnergyTerms terms;
   terms.foreground = static_cast<int>(buffers.foreground.size());

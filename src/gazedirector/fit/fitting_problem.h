@@ -18,11 +18,22 @@ namespace gazedirector {
 // What one thread needs to evaluate the energy: a renderer and its buffers.
 struct EvaluationWorkspace {
   explicit EvaluationWorkspace(std::shared_ptr<const EyeRegionModel> model) : renderer(std::move(model)) {}
+  // Renders Φ into `buffers` unless they already hold its render with this
+  // camera and these eyes: Gauss-Newton evaluates the accepted trial again
+  // at the start of the next iteration, and linearises at the same Φ.
+  void Render(const Parameters& phi, const Camera& camera, std::array<bool, 2> eyes);
+
   Renderer renderer;
   RenderBuffers buffers;
   std::vector<int> foreground_index;  // pixel -> row of buffers.colour, or -1
   std::vector<Eigen::Vector2d> landmarks;
   Eigen::VectorXf plus, minus;  // residuals of the two renders of a central difference
+
+ private:
+  bool holds_render_ = false;
+  Parameters rendered_phi_;
+  Camera rendered_camera_;
+  std::array<bool, 2> rendered_eyes_{};
 };
 
 // One image to explain: the observed region at working resolution, its

@@ -15,6 +15,8 @@ struct Camera {
   // phones) and the principal point at the image centre.
   static Camera Default(int width, int height);
 
+  bool operator==(const Camera&) const = default;
+
   Eigen::Vector2d Project(const Eigen::Vector3d& point) const {
     return {fx * point.x() / point.z() + cx, fy * point.y() / point.z() + cy};
   }
