@@ -34,12 +34,18 @@ int64_t Edge(const ScreenVertex& a, const ScreenVertex& b, int64_t px, int64_t p
   return static_cast<int64_t>(b.y - a.y) * (px - a.x) - static_cast<int64_t>(b.x - a.x) * (py - a.y);
 }
 
+// Edge() in 32 bits for a small triangle's values; unsigned arithmetic wraps
+// where a large triangle's overflow (those are drawn by DrawOne).
+int32_t WrappingEdge(int32_t ax, int32_t ay, int32_t bx, int32_t by, int32_t px, int32_t py) {
+  return static_cast<int32_t>(static_cast<uint32_t>(by - ay) * static_cast<uint32_t>(px - ax) -
+                              static_cast<uint32_t>(bx - ax) * static_cast<uint32_t>(py - ay));
+}
+
 // Pixel centres exactly on an edge belong to the triangle only for top and
 // left edges, so that no pixel is drawn twice or missed along a shared edge.
-int32_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) {
-  const int32_t dy = b.y - a.y, dx = b.x - a.x;
-  return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1;
-}
+// (dx, dy) runs along the edge.
+int32_t TopLeftBias(int32_t dx, int32_t dy) { return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1; }
+int32_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) { return TopLeftBias(b.x - a.x, b.y - a.y); }
 
 int32_t FloorPixel(int32_t v) { return v >> kSubpixelBits; }  // arithmetic shift floors
 int32_t CeilPixel(int32_t v) { return -((-v) >> kSubpixelBits); }
@@ -226,8 +232,7 @@ void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i*
 
 // Eight triangles at a time: their culling, clipping and edge setup are
 // branch-free loops over the lanes, which the compiler vectorizes (AVX2);
-// the survivors are then filled in order. Unsigned arithmetic wraps where a
-// large triangle's values overflow; those lanes take the scalar path.
+// the survivors are then filled in order, large triangles by DrawOne.
 void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
                                            int num_triangles, int32_t id_offset, const Eigen::Vector4i& clip) {
   constexpr int kLanes = 8;
@@ -238,12 +243,6 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   alignas(32) int32_t fill[kLanes], large[kLanes], row0[kLanes], row1[kLanes], row2[kLanes], bias1[kLanes],
       bias2[kLanes], x0s[kLanes], x1s[kLanes], y0s[kLanes], y1s[kLanes];
   alignas(32) float inverse[kLanes];
-  auto top_left_bias = [](int32_t dx, int32_t dy) -> int32_t { return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1; };
-  // (to - from) x (p - from) as Edge() computes it, wrapping instead of overflowing.
-  auto edge = [](int32_t from_x, int32_t from_y, int32_t to_x, int32_t to_y, int32_t px, int32_t py) {
-    return static_cast<int32_t>(static_cast<uint32_t>(to_y - from_y) * static_cast<uint32_t>(px - from_x) -
-                                static_cast<uint32_t>(to_x - from_x) * static_cast<uint32_t>(py - from_y));
-  };
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
     for (int i = 0; i < kLanes; ++i) {
@@ -255,21 +254,21 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
     for (int i = 0; i < kLanes; ++i) {
       const int32_t min_x = std::min(ax[i], std::min(bx[i], cx[i])), max_x = std::max(ax[i], std::max(bx[i], cx[i]));
       const int32_t min_y = std::min(ay[i], std::min(by[i], cy[i])), max_y = std::max(ay[i], std::max(by[i], cy[i]));
-      const bool on_window = (i < count) & (max_x >= left) & (max_y >= top) & (min_x <= right) & (min_y <= bottom);
+      const bool on_window = (max_x >= left) & (max_y >= top) & (min_x <= right) & (min_y <= bottom);
       const bool small = (max_x - min_x < kSmall) & (max_y - min_y < kSmall) & (min_x >= -kMaxCoordinate) &
                          (min_y >= -kMaxCoordinate) & (max_x <= kMaxCoordinate) & (max_y <= kMaxCoordinate);
-      const int32_t area = edge(ax[i], ay[i], bx[i], by[i], cx[i], cy[i]);
+      const int32_t area = WrappingEdge(ax[i], ay[i], bx[i], by[i], cx[i], cy[i]);
       const bool in_front = (area > 0) & (az[i] >= kNearDepth) & (bz[i] >= kNearDepth) & (cz[i] >= kNearDepth);
-      const int32_t x0 = std::max(clip_x0, (min_x + kOne - 1) >> kSubpixelBits), x1 = std::min(clip_x1, max_x >> kSubpixelBits);
-      const int32_t y0 = std::max(clip_y0, (min_y + kOne - 1) >> kSubpixelBits), y1 = std::min(clip_y1, max_y >> kSubpixelBits);
+      const int32_t x0 = std::max(clip_x0, CeilPixel(min_x)), x1 = std::min(clip_x1, FloorPixel(max_x));
+      const int32_t y0 = std::max(clip_y0, CeilPixel(min_y)), y1 = std::min(clip_y1, FloorPixel(max_y));
       fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
       large[i] = on_window & !small;
       const int32_t px = x0 * kOne, py = y0 * kOne;
-      bias1[i] = top_left_bias(ax[i] - cx[i], ay[i] - cy[i]);
-      bias2[i] = top_left_bias(bx[i] - ax[i], by[i] - ay[i]);
-      row0[i] = edge(bx[i], by[i], cx[i], cy[i], px, py) + top_left_bias(cx[i] - bx[i], cy[i] - by[i]);
-      row1[i] = edge(cx[i], cy[i], ax[i], ay[i], px, py) + bias1[i];
-      row2[i] = edge(ax[i], ay[i], bx[i], by[i], px, py) + bias2[i];
+      bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
+      bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
+      row0[i] = WrappingEdge(bx[i], by[i], cx[i], cy[i], px, py) + TopLeftBias(cx[i] - bx[i], cy[i] - by[i]);
+      row1[i] = WrappingEdge(cx[i], cy[i], ax[i], ay[i], px, py) + bias1[i];
+      row2[i] = WrappingEdge(ax[i], ay[i], bx[i], by[i], px, py) + bias2[i];
       inverse[i] = 1.0f / static_cast<float>(area);
       x0s[i] = x0, x1s[i] = x1, y0s[i] = y0, y1s[i] = y1;
     }
