@@ -62,9 +62,11 @@ class VisibilityBuffer {
   void CollectCovered(std::vector<int>& pixels) const;
 
   // Whether vector instructions are used where the build has them (the
-  // default): rows are filled eight pixels at a time with AVX2 or AVX-512, and
-  // with AVX-512 triangles are also set up sixteen at a time. Off, every
-  // triangle takes the scalar path. Both give identical buffers.
+  // default): rows are filled eight pixels at a time with AVX2 or AVX-512
+  // (with AVX2, triangles up to four pixels wide two rows at a time),
+  // triangles set up eight or sixteen at a time, covered pixels collected
+  // eight or sixteen at a time. Off, everything takes the scalar path. Both
+  // give identical buffers and pixel lists.
   void set_vectorized(bool on) { vectorized_ = on; }
 
  private:
@@ -83,6 +85,7 @@ class VisibilityBuffer {
                            int32_t id_offset, const Eigen::Vector4i& clip);
   void FillRows(const Prepared& triangle);
   void FillRowsVectorized(const Prepared& triangle);
+  void FillRowPairs(const Prepared& triangle);
   void FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1,
                  int y0, int y1, int32_t id);
 
