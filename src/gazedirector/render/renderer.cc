@@ -230,46 +230,46 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
   }
 }
 
-// The skin covers most pixels, so its path is split into passes over a chunk
-// of pixels: interpolate, find the texels (a vectorised loop), sample. Each
-// pass is short and independent from pixel to pixel, which roughly halves
-// the time of shading a pixel at once. Eyeball pixels take ShadePixel.
+// The skin covers most pixels, so its path is split into branch-free passes
+// over a chunk of pixels: interpolate, find the texels (a vectorised loop),
+// sample, light (vectorised). Every pixel takes them, eyeball pixels too
+// (their texture coordinates are in range), which is cheaper than telling
+// them apart; eyeball pixels are then shaded again by ShadePixel.
 void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out) const {
   const int count = std::min(kShadingChunk, static_cast<int>(out.foreground.size()) - first);
   const VisibilityBuffer& vis = out.visibility;
   const Eigen::Vector3i* triangles = model_->all_triangles().data();
   const int32_t first_eyeball = out.part_offsets[kLeftEyeball];
-  alignas(64) std::array<float, kShadingChunk> u, v, fx, fy;
+  alignas(64) std::array<float, kShadingChunk> u, v, fx, fy, light_r, light_g, light_b, albedo_r, albedo_g, albedo_b;
   alignas(64) std::array<int32_t, kShadingChunk> offset;
-  Eigen::Matrix<float, 3, kShadingChunk> light;
   uint64_t eyeballs = 0;
   for (int j = 0; j < count; ++j) {
     const int pixel = out.foreground[first + j];
     const int32_t id = vis.triangle(pixel);
-    if (id >= first_eyeball) {
-      eyeballs |= uint64_t{1} << j;
-      u[j] = v[j] = 0;
-      continue;
-    }
+    eyeballs |= static_cast<uint64_t>(id >= first_eyeball) << j;
     const Eigen::Vector3i& t = triangles[id];
     const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
     const Attributes a = b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
-    u[j] = a[0], v[j] = a[1];
-    light.col(j) = a.segment<3>(2);
+    u[j] = a[0], v[j] = a[1], light_r[j] = a[2], light_g[j] = a[3], light_b[j] = a[4];
   }
   in.skin_ahead.LocateMany(u.data(), v.data(), count, offset.data(), fx.data(), fy.data());
+  auto keep = [&](int j, const Eigen::Vector4f& albedo) { albedo_r[j] = albedo[0], albedo_g[j] = albedo[1], albedo_b[j] = albedo[2]; };
+  if (in.blend > 0) {
+    for (int j = 0; j < count; ++j) keep(j, in.SkinAlbedo(offset[j], fx[j], fy[j]));
+  } else {
+    for (int j = 0; j < count; ++j) keep(j, in.skin_ahead.SampleAt(offset[j], fx[j], fy[j]));
+  }
   const Eigen::Index rows = out.colour.rows();
   float* red = out.colour.data() + first;
   float* green = red + rows;
   float* blue = green + rows;
   for (int j = 0; j < count; ++j) {
-    if (eyeballs >> j & 1) {
-      const PixelShading shading = ShadePixel(in, first + j, out);
-      out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.a.segment<3>(2)).transpose();
-      continue;
-    }
-    const Eigen::Vector4f albedo = in.SkinAlbedo(offset[j], fx[j], fy[j]);
-    red[j] = albedo[0] * light(0, j), green[j] = albedo[1] * light(1, j), blue[j] = albedo[2] * light(2, j);
+    red[j] = albedo_r[j] * light_r[j], green[j] = albedo_g[j] * light_g[j], blue[j] = albedo_b[j] * light_b[j];
+  }
+  for (; eyeballs != 0; eyeballs &= eyeballs - 1) {
+    const int j = __builtin_ctzll(eyeballs);
+    const PixelShading shading = ShadePixel(in, first + j, out);
+    out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.a.segment<3>(2)).transpose();
   }
 }
 
