@@ -126,9 +126,12 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   Eigen::VectorXf& r = *residuals;
   r.resize(num_residuals());
   const float inverse_root_area = static_cast<float>(1.0 / std::sqrt(area));
+  const float eyeball_scale = std::sqrt(eyeball_weight);
+  const int32_t* triangle = buffers.visibility.triangle_data();
+  const int* index = work.foreground_index.data();
   int row = 0;
   for (int pixel : domain_) {
-    const int i = work.foreground_index[pixel];
+    const int i = index[pixel];
     if (i < 0) {
       r.segment<3>(row).setZero();
     } else {
@@ -136,7 +139,7 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
       for (int c = 0; c < 3; ++c) difference[c] = buffers.colour(i, c) - observed[3 * pixel + c];
       const float squared = difference.squaredNorm();
       float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
-      if (buffers.visibility.triangle(pixel) >= first_eyeball) scale *= std::sqrt(eyeball_weight);
+      if (triangle[pixel] >= first_eyeball) scale *= eyeball_scale;
       r.segment<3>(row) = difference * scale;
     }
     row += 3;

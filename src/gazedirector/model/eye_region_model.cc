@@ -257,10 +257,7 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
       work.remapped_iris_size = iris_size;
     }
     ball.uvs = work.remapped_uvs;
-    for (int i : eyeball_.cornea()) {
-      const Eigen::Vector3d view = eyeball_to_camera.transpose() * ball.positions.col(i).cast<double>().normalized();
-      ball.uvs.col(i) = eyeball_.RefractedUv(i, view, iris_size).cast<float>();
-    }
+    eyeball_.RefractedUvs(-(eyeball_to_camera.transpose() * eyeball_origin), iris_size, ball.uvs);
 
     // The lid margins in the eyeball's angular coordinates.
     PosedEye& state = posed.eyes[eye];

@@ -98,6 +98,14 @@ EyeballModel EyeballModel::Load(const std::filesystem::path& obj) {
     }
   }
   if (model.cornea_.size() < 33) Fail(ExitCode::kAssets, "{}: found no cornea in front of the limbus", obj.string());
+  const int padded = (static_cast<int>(model.cornea_.size()) + kRefractionLanes - 1) / kRefractionLanes * kRefractionLanes;
+  model.cornea_points_.resize(padded, 3);
+  model.cornea_normals_.resize(padded, 3);
+  for (int k = 0; k < padded; ++k) {
+    const int vertex = model.cornea_[std::min<std::size_t>(k, model.cornea_.size() - 1)];
+    model.cornea_points_.row(k) = model.positions_.col(vertex).transpose().array();
+    model.cornea_normals_.row(k) = model.normals_.col(vertex).transpose().array();
+  }
   model.mirrored_x_ = MirrorVertices(model.positions_, Eigen::Vector3d(-1, 1, 1), obj);
   model.mirrored_z_ = MirrorVertices(model.positions_, Eigen::Vector3d(1, 1, -1), obj);
   return model;
@@ -117,6 +125,33 @@ Eigen::Vector2d EyeballModel::RemapForIrisSize(const Eigen::Vector2d& uv, double
     return uv;
   }
   return radius > 0 ? Eigen::Vector2d(Eigen::Vector2d(0.5, 0.5) + offset * (remapped / radius)) : uv;
+}
+
+void EyeballModel::RefractedUvs(const Eigen::Vector3d& camera, double iris_size, Eigen::Matrix2Xf& uvs) const {
+  using Lanes = Eigen::Array<double, kRefractionLanes, 1>;
+  const double eta = 1.0 / kCorneaRefractiveIndex;
+  const double uv_per_mm = topology::kLimbusUvRadius / (topology::kLimbusRadiusMm * iris_size);
+  const int count = static_cast<int>(cornea_.size());
+  for (int first = 0; first < count; first += kRefractionLanes) {
+    auto point = [&](int axis) { return cornea_points_.col(axis).segment<kRefractionLanes>(first); };
+    auto normal = [&](int axis) { return cornea_normals_.col(axis).segment<kRefractionLanes>(first); };
+    // As RefractedUv, a lane per vertex.
+    Lanes vx = point(0) - camera.x(), vy = point(1) - camera.y(), vz = point(2) - camera.z();
+    const Lanes inverse_length = (vx.square() + vy.square() + vz.square()).sqrt().inverse();
+    vx *= inverse_length, vy *= inverse_length, vz *= inverse_length;
+    const Lanes cos_in = (-(normal(0) * vx + normal(1) * vy + normal(2) * vz)).max(0.0).min(1.0);
+    const Lanes k = 1.0 - eta * eta * (1.0 - cos_in.square());
+    const Lanes along_normal = eta * cos_in - k.max(0.0).sqrt();
+    Lanes rx = eta * vx + along_normal * normal(0), ry = eta * vy + along_normal * normal(1),
+          rz = eta * vz + along_normal * normal(2);
+    const Lanes inverse_refracted = (rx.square() + ry.square() + rz.square()).sqrt().inverse();
+    rx *= inverse_refracted, ry *= inverse_refracted, rz *= inverse_refracted;
+    const Lanes travel = (ry > 1e-6).select((-kIrisPlaneDepthMm - point(1)) / ry, 0.0);
+    const Lanes u = 0.5 + (point(0) + rx * travel) * uv_per_mm, v = 0.5 + (point(2) + rz * travel) * uv_per_mm;
+    for (int lane = 0; lane < std::min(kRefractionLanes, count - first); ++lane) {
+      uvs.col(cornea_[first + lane]) = Eigen::Vector2f(static_cast<float>(u[lane]), static_cast<float>(v[lane]));
+    }
+  }
 }
 
 Eigen::Vector2d EyeballModel::RefractedUv(int vertex, const Eigen::Vector3d& view, double iris_size) const {

@@ -38,6 +38,10 @@ class EyeballModel {
   // unit view ray `view` (from the camera toward the vertex, eyeball frame):
   // the ray refracts at the cornea and meets the iris plane.
   Eigen::Vector2d RefractedUv(int vertex, const Eigen::Vector3d& view, double iris_size) const;
+  // The same for every cornea vertex seen from `camera` (a point in the
+  // eyeball frame), written to the columns cornea() of `uvs`; in vector lanes
+  // and without allocating.
+  void RefractedUvs(const Eigen::Vector3d& camera, double iris_size, Eigen::Matrix2Xf& uvs) const;
 
   // The vertex at each vertex's mirror image across the eyeball's vertical
   // plane (x -> -x) or its horizontal plane (z -> -z): the mesh is symmetric
@@ -55,6 +59,10 @@ class EyeballModel {
   Eigen::Matrix2Xd angles_;
   std::vector<Eigen::Vector3i> triangles_;
   std::vector<int> cornea_;
+  // The cornea's positions and normals, one coordinate per column, padded to
+  // whole lanes by repeating the last vertex.
+  static constexpr int kRefractionLanes = 8;
+  Eigen::Array<double, Eigen::Dynamic, 3> cornea_points_, cornea_normals_;
   std::vector<bool> is_cornea_;
   std::vector<int> mirrored_x_;
   std::vector<int> mirrored_z_;

@@ -40,5 +40,25 @@ TEST(EyeballModelTest, TheLimbusMirrorsOntoItselfAndOffTheAxisVerticesMove) {
   EXPECT_GT(moved, eyeball.num_vertices() / 2);
 }
 
+TEST(EyeballModelTest, BatchedRefractionMatchesOneRayAtATime) {
+  const EyeballModel& eyeball = Eyeball();
+  for (const Eigen::Vector3d& camera : {Eigen::Vector3d(0, -600, 0), Eigen::Vector3d(150, -400, -90)}) {
+    for (double iris_size : {0.9, 1.1}) {
+      Eigen::Matrix2Xf uvs = Eigen::Matrix2Xf::Constant(2, eyeball.num_vertices(), -1.0f);
+      eyeball.RefractedUvs(camera, iris_size, uvs);
+      for (int v = 0; v < eyeball.num_vertices(); ++v) {
+        if (!eyeball.is_cornea()[v]) {
+          EXPECT_EQ(uvs(0, v), -1.0f) << "vertex " << v << " is not on the cornea";
+          continue;
+        }
+        const Eigen::Vector3d view = (eyeball.positions().col(v) - camera).normalized();
+        const Eigen::Vector2f expected = eyeball.RefractedUv(v, view, iris_size).cast<float>();
+        EXPECT_NEAR(uvs(0, v), expected.x(), 1e-6) << "vertex " << v;
+        EXPECT_NEAR(uvs(1, v), expected.y(), 1e-6) << "vertex " << v;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gazedirector

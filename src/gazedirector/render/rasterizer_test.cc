@@ -67,8 +67,8 @@ TEST(RasterizerTest, BarycentricsReproduceThePixelPosition) {
   EXPECT_GT(checked, 40);
 }
 
-// The vectorized setup and fill must give exactly the scalar path's buffers,
-// on random triangles of all sizes.
+// The vectorized setup, fill and pixel list must give exactly the scalar
+// path's, on random triangles of all sizes.
 TEST(RasterizerTest, VectorizedPathMatchesTheScalarPathBitForBit) {
   std::mt19937 random(3);
   std::uniform_real_distribution<float> coordinate(-30.0f, 130.0f), depth(50.0f, 60.0f);
@@ -81,6 +81,14 @@ TEST(RasterizerTest, VectorizedPathMatchesTheScalarPathBitForBit) {
     // Mostly small triangles, some large ones.
     const int b = i % 10 == 0 ? index(random) : std::min(2999, a + 1), c = i % 10 == 0 ? index(random) : std::min(2999, a + 2);
     triangles.emplace_back(a, b, c);
+  }
+  // And many a few pixels across, like the model's at the scale of a fit.
+  std::uniform_real_distribution<float> offset(-3.0f, 3.0f);
+  for (int i = 0; i < 2000; ++i) {
+    const float x = coordinate(random), y = coordinate(random);
+    const int first = static_cast<int>(vertices.size());
+    for (int k = 0; k < 3; ++k) vertices.push_back(SnapVertex(x + offset(random), y + offset(random), depth(random)));
+    triangles.emplace_back(first, first + 1, first + 2);
   }
   VisibilityBuffer vectorized, scalar;
   vectorized.Reset(100, 100);
@@ -96,6 +104,11 @@ TEST(RasterizerTest, VectorizedPathMatchesTheScalarPathBitForBit) {
       ASSERT_EQ(vectorized.b2(i), scalar.b2(i));
     }
   }
+  std::vector<int> covered, covered_scalar;
+  vectorized.CollectCovered(covered);
+  scalar.CollectCovered(covered_scalar);
+  EXPECT_EQ(covered, covered_scalar);
+  EXPECT_GT(covered.size(), 2000u);
 }
 
 }  // namespace
