@@ -39,20 +39,13 @@ int FittingProblem::num_residuals() const {
   return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + 3;
 }
 
-float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) const {
-  const int row = work.foreground_index[pixel];
-  if (row < 0) return 0.0f;
-  const float inverse_root_area = 1.0f / std::sqrt(static_cast<float>(work.buffers.foreground.size()));
-  const cv::Vec3f observed = observed_.at<cv::Vec3f>(pixel / camera_.width, pixel % camera_.width);
-  float squared = 0;
-  for (int c = 0; c < 3; ++c) squared += std::pow(work.buffers.colour(row, c) - observed[c], 2.0f);
-  const float truncation = static_cast<float>(weights_.truncation);
-  const float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
-  const bool eyeball = work.buffers.visibility.triangle(pixel) >= work.buffers.part_offsets[kLeftEyeball];
-  return eyeball ? scale * static_cast<float>(std::sqrt(weights_.eyeball_pixels)) : scale;
-}
-
 namespace {
+
+// What a pixel's colour difference is multiplied by in the residuals: the
+// robust truncation caps its squared error at `truncation`.
+float TruncatedScale(float squared, float truncation, float inverse_root_area) {
+  return squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+}
 
 // The sum over the foreground of the truncated squared colour errors, eyeball
 // pixels weighted. Eight independent sums (in double: the line search compares
@@ -85,6 +78,20 @@ double ImageError(const RenderBuffers& buffers, const float* observed, float tru
 }
 
 }  // namespace
+
+float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) const {
+  const int row = work.foreground_index[pixel];
+  if (row < 0) return 0.0f;
+  const float inverse_root_area = 1.0f / std::sqrt(static_cast<float>(work.buffers.foreground.size()));
+  const cv::Vec3f observed = observed_.at<cv::Vec3f>(pixel / camera_.width, pixel % camera_.width);
+  float squared = 0;
+  for (int c = 0; c < 3; ++c) squared += std::pow(work.buffers.colour(row, c) - observed[c], 2.0f);
+  const float truncation = static_cast<float>(weights_.truncation);
+  const float scale = TruncatedScale(squared, truncation, inverse_root_area);
+  const bool eyeball = work.buffers.visibility.triangle(pixel) >= work.buffers.part_offsets[kLeftEyeball];
+  return eyeball ? scale * static_cast<float>(std::sqrt(weights_.eyeball_pixels)) : scale;
+}
+
 
 void EvaluationWorkspace::Render(const Parameters& phi, const Camera& camera, std::array<bool, 2> eyes) {
   if (holds_render_ && eyes == rendered_eyes_ && camera == rendered_camera_ && phi.values == rendered_phi_.values) return;
@@ -138,7 +145,7 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
       Eigen::Vector3f difference;
       for (int c = 0; c < 3; ++c) difference[c] = buffers.colour(i, c) - observed[3 * pixel + c];
       const float squared = difference.squaredNorm();
-      float scale = squared > truncation ? inverse_root_area * std::sqrt(truncation / squared) : inverse_root_area;
+      float scale = TruncatedScale(squared, truncation, inverse_root_area);
       if (triangle[pixel] >= first_eyeball) scale *= eyeball_scale;
       r.segment<3>(row) = difference * scale;
     }
