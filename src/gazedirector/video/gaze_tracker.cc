@@ -1,16 +1,35 @@
 #include "gazedirector/video/gaze_tracker.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gazedirector {
 namespace {
 
 // Holds the parameters that settle in a video: shape, texture (skin, iris
 // colour, sclera tint), iris size and interocular distance.
+constexpr std::initializer_list<Block> kSettledBlocks = {Block::kShape,       Block::kTexture,    Block::kIrisSize,
+                                                          Block::kIrisColour,  Block::kScleraTint, Block::kInterocular};
+
 FitOptions HoldSettled(FitOptions options) {
-  Hold(options.free, {Block::kShape, Block::kTexture, Block::kIrisSize, Block::kIrisColour, Block::kScleraTint,
-                      Block::kInterocular});
+  Hold(options.free, kSettledBlocks);
   return options;
+}
+
+// `phi` with the settled parameters of `settled`.
+Parameters WithSettled(Parameters phi, const Parameters& settled) {
+  for (Block block : kSettledBlocks) {
+    const BlockLayout& layout = LayoutOf(block);
+    phi.values.segment(layout.offset, layout.size) = settled.values.segment(layout.offset, layout.size);
+  }
+  return phi;
+}
+
+// Whether the fit has run into a bound of the lids or of the gaze's pitch:
+// a wrong minimum (eyes rolled up under the lids), or a shape that cannot
+// follow the face's expression.
+bool AtALimit(const Parameters& phi) {
+  return std::abs(phi.eyelid_pitch()) >= 39.9 || std::abs(phi.gaze_pitch()) >= 39.9;
 }
 
 }  // namespace
@@ -92,19 +111,38 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
     warm_.options() = options;
     result.fit = warm_.FitFace(image, camera, face, &start);
     result.warm = true;
+    const Parameters usual_start = settled ? WithSettled(start, history->settled) : start;
+    if (usual_start.values != start.values) {
+      // The last frames needed a shape of their own (see below): the usual
+      // one is tried again and kept whenever it explains the frame as well.
+      FitResult usual = warm_.FitFace(image, camera, face, &usual_start);
+      if (usual.terms.total() <= result.fit.terms.total()) result.fit = usual;
+    }
     // A blink's energy is unusual, and a fresh fit cannot see its gaze either.
     const bool degraded = !result.eyes_closed &&
-                          (!result.fit.good || (history->typical_energy > 0 &&
-                                                result.fit.terms.total() > options_.refit_ratio * history->typical_energy));
+                          (!result.fit.good || AtALimit(result.fit.phi) ||
+                           (history->typical_energy > 0 &&
+                            result.fit.terms.total() > options_.refit_ratio * history->typical_energy));
     if (degraded) {
       // A settled face keeps its shape and texture: refits happen on unusual
       // frames (a half-closed eye, a fast turn), the worst to learn them from.
       fresh_.options() = settled ? HoldSettled(options_.fresh) : options_.fresh;
-      FitResult fresh = settled ? fresh_.RefitFace(image, camera, face, history->phi)
+      FitResult fresh = settled ? fresh_.RefitFace(image, camera, face, WithSettled(history->phi, history->settled))
                                 : fresh_.FitFace(image, camera, face);
       if (fresh.terms.total() < result.fit.terms.total()) {
         result.fit = fresh;
         result.warm = false;
+      }
+      if (settled && (!result.fit.good || AtALimit(result.fit.phi))) {
+        // An expression the settled shape cannot follow (eyes opened wide
+        // while looking aside): this frame, and the next ones while it
+        // explains them better, get a shape and texture of their own.
+        fresh_.options() = options_.fresh;
+        FitResult own = fresh_.FitFace(image, camera, face);
+        if (own.terms.total() < result.fit.terms.total()) {
+          result.fit = own;
+          result.warm = false;
+        }
       }
     }
   } else {
@@ -113,7 +151,7 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
   }
   if (history != nullptr) {
     history->phi = result.fit.phi;
-    ++history->fits;
+    if (++history->fits == options_.settle_frames) history->settled = result.fit.phi;
     if (result.fit.good && !result.eyes_closed) {
       const double energy = result.fit.terms.total();
       history->typical_energy = history->typical_energy > 0 ? 0.8 * history->typical_energy + 0.2 * energy : energy;

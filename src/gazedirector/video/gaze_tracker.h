@@ -25,7 +25,10 @@ struct GazeTrackerOptions {
   // After this many fits of a face its shape, texture (skin, iris colour,
   // sclera tint), iris size and interocular distance are held (the paper's
   // parameter masking): they do not change from frame to frame, and fewer
-  // parameters fit faster.
+  // parameters fit faster. A frame whose fit still runs into the lids' or
+  // the pitch's bound after a refit (an expression the settled shape cannot
+  // follow: eyes opened wide) is fitted with a shape and texture of its own,
+  // and so are the next frames until the settled ones explain them as well.
   int settle_frames = 3;
   // A warm fit whose energy exceeds this multiple of the face's typical
   // energy is redone from the landmarks (the fit lost the eyes).
@@ -61,6 +64,7 @@ class GazeTracker {
  private:
   struct History {
     Parameters phi;
+    Parameters settled;  // the fit whose shape and texture were held from settle_frames on
     int fits = 0;
     double typical_energy = 0;  // running average of good fits' energies
     EyeOpeningTracker opening;
