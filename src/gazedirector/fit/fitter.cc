@@ -71,7 +71,7 @@ void ClampToBounds(Parameters& phi) {
   clamp_block(Block::kIrisColour, 0.0, 2.0);
   clamp_block(Block::kScleraTint, 0.0, 2.0);
   clamp_block(Block::kInterocular, 50, 76);
-  clamp_block(Block::kEyelid, -40, 40);
+  clamp_block(Block::kEyelid, -kEyelidPitchBoundDeg, kEyelidPitchBoundDeg);
   clamp_block(Block::kEyelidClosure, -10, 45);
   clamp_block(Block::kAmbient, 0.0, 3.0);
   clamp_block(Block::kLightColour, 0.0, 3.0);

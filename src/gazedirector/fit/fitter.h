@@ -145,8 +145,12 @@ class Fitter {
   Eigen::VectorXf residuals_;
 };
 
+// How far the lids may pitch either way, degrees.
+inline constexpr double kEyelidPitchBoundDeg = 40;
+
 // Clamps Φ to plausible values (PCA within 3 standard deviations, gaze
-// within the eye's range, positive colours and light).
+// within the eye's range, lids within kEyelidPitchBoundDeg, positive colours
+// and light).
 void ClampToBounds(Parameters& phi);
 
 }  // namespace gazedirector

@@ -92,7 +92,6 @@ float FittingProblem::PixelScale(const EvaluationWorkspace& work, int pixel) con
   return eyeball ? scale * static_cast<float>(std::sqrt(weights_.eyeball_pixels)) : scale;
 }
 
-
 void EvaluationWorkspace::Render(const Parameters& phi, const Camera& camera, std::array<bool, 2> eyes) {
   if (holds_render_ && eyes == rendered_eyes_ && camera == rendered_camera_ && phi.values == rendered_phi_.values) return;
   renderer.set_eyes(eyes[0], eyes[1]);

@@ -2,15 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace gazedirector {
 namespace {
 
-// Holds the parameters that settle in a video: shape, texture (skin, iris
-// colour, sclera tint), iris size and interocular distance.
+// The parameters that settle in a video: shape, texture (skin, iris colour,
+// sclera tint), iris size and interocular distance.
 constexpr std::initializer_list<Block> kSettledBlocks = {Block::kShape,       Block::kTexture,    Block::kIrisSize,
                                                           Block::kIrisColour,  Block::kScleraTint, Block::kInterocular};
 
+// Holds them.
 FitOptions HoldSettled(FitOptions options) {
   Hold(options.free, kSettledBlocks);
   return options;
@@ -25,11 +27,12 @@ Parameters WithSettled(Parameters phi, const Parameters& settled) {
   return phi;
 }
 
-// Whether the fit has run into a bound of the lids or of the gaze's pitch:
-// a wrong minimum (eyes rolled up under the lids), or a shape that cannot
-// follow the face's expression.
+// Whether the fit has run into the lids' bound, or its gaze pitch beyond
+// where the lids can follow: a wrong minimum (eyes rolled up under the lids),
+// or a shape that cannot follow the face's expression.
 bool AtALimit(const Parameters& phi) {
-  return std::abs(phi.eyelid_pitch()) >= 39.9 || std::abs(phi.gaze_pitch()) >= 39.9;
+  constexpr double kLimit = kEyelidPitchBoundDeg - 0.1;
+  return std::abs(phi.eyelid_pitch()) >= kLimit || std::abs(phi.gaze_pitch()) >= kLimit;
 }
 
 }  // namespace
@@ -111,12 +114,18 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
     warm_.options() = options;
     result.fit = warm_.FitFace(image, camera, face, &start);
     result.warm = true;
+    // Keeps a refit when it explains the frame better.
+    auto keep_if_better = [&result](FitResult refit) {
+      if (refit.terms.total() >= result.fit.terms.total()) return;
+      result.fit = std::move(refit);
+      result.warm = false;
+    };
     const Parameters usual_start = settled ? WithSettled(start, history->settled) : start;
     if (usual_start.values != start.values) {
       // The last frames needed a shape of their own (see below): the usual
       // one is tried again and kept whenever it explains the frame as well.
       FitResult usual = warm_.FitFace(image, camera, face, &usual_start);
-      if (usual.terms.total() <= result.fit.terms.total()) result.fit = usual;
+      if (usual.terms.total() <= result.fit.terms.total()) result.fit = std::move(usual);
     }
     // A blink's energy is unusual, and a fresh fit cannot see its gaze either.
     const bool degraded = !result.eyes_closed &&
@@ -126,23 +135,16 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
     if (degraded) {
       // A settled face keeps its shape and texture: refits happen on unusual
       // frames (a half-closed eye, a fast turn), the worst to learn them from.
+      // (Not in a blink, so `start` is the last fit and usual_start its settled version.)
       fresh_.options() = settled ? HoldSettled(options_.fresh) : options_.fresh;
-      FitResult fresh = settled ? fresh_.RefitFace(image, camera, face, WithSettled(history->phi, history->settled))
-                                : fresh_.FitFace(image, camera, face);
-      if (fresh.terms.total() < result.fit.terms.total()) {
-        result.fit = fresh;
-        result.warm = false;
-      }
+      keep_if_better(settled ? fresh_.RefitFace(image, camera, face, usual_start)
+                             : fresh_.FitFace(image, camera, face));
       if (settled && (!result.fit.good || AtALimit(result.fit.phi))) {
         // An expression the settled shape cannot follow (eyes opened wide
         // while looking aside): this frame, and the next ones while it
         // explains them better, get a shape and texture of their own.
         fresh_.options() = options_.fresh;
-        FitResult own = fresh_.FitFace(image, camera, face);
-        if (own.terms.total() < result.fit.terms.total()) {
-          result.fit = own;
-          result.warm = false;
-        }
+        keep_if_better(fresh_.FitFace(image, camera, face));
       }
     }
   } else {

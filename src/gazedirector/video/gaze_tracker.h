@@ -25,8 +25,8 @@ struct GazeTrackerOptions {
   // After this many fits of a face its shape, texture (skin, iris colour,
   // sclera tint), iris size and interocular distance are held (the paper's
   // parameter masking): they do not change from frame to frame, and fewer
-  // parameters fit faster. A frame whose fit still runs into the lids' or
-  // the pitch's bound after a refit (an expression the settled shape cannot
+  // parameters fit faster. A frame whose fit still runs into the lids' bound
+  // (or a pitch beyond it) after a refit (an expression the settled shape cannot
   // follow: eyes opened wide) is fitted with a shape and texture of its own,
   // and so are the next frames until the settled ones explain them as well.
   int settle_frames = 3;
