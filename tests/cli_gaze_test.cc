@@ -127,6 +127,28 @@ TEST(CliGazeTest, RedirectColumbiaScoresOneSubjectRegisteredAndAsCut) {
   EXPECT_TRUE(fs::exists(dir / "out" / "0007_2m_0P_10V_15H_L.jpg"));
 }
 
+TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
+  // The paper's protocol leaves out people wearing glasses.
+  const fs::path dir = ScratchDir("cli_columbia_exclude");
+  std::string output;
+  ASSERT_EQ(RunCli("eval columbia --subjects 0007 0013 --exclude-subjects 0007 --poses 0 --every 10 --csv " +
+                       Quote(dir / "crops.csv") + " --plot " + Quote(dir / "curves.png"),
+                   &output),
+            0)
+      << output;
+  std::ifstream csv(dir / "crops.csv");
+  std::string line;
+  std::getline(csv, line);  // header
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    EXPECT_EQ(line.substr(0, 5), "0013_") << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6);  // photos 1, 11 and 21 of 0013's 21 at head pose 0, both eyes
+  EXPECT_EQ(RunCli("eval columbia --subjects 0007 --exclude-subjects 0007", &output), 4) << output;  // bad input
+  EXPECT_NE(output.find("no crops"), std::string::npos) << output;
+}
+
 TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   const fs::path dir = ScratchDir("cli_redirect_bad");
   std::string output;

@@ -35,6 +35,7 @@ struct EvalOptions {
   std::string plot = "eval_columbia.png";
   std::string csv;
   std::vector<std::string> subjects;
+  std::vector<std::string> excluded_subjects;
   std::vector<int> poses;
   int every = 1;
   int threads = 2;
@@ -119,17 +120,19 @@ std::filesystem::path ColumbiaDir(const EvalOptions& options) {
   return options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
 }
 
-// The crops of the chosen subjects and head poses (all when none are
-// chosen), from every `every`th photo (both eyes of a photo stay together).
+// The crops of the chosen subjects (less the excluded ones) and head poses
+// (all when none are chosen), from every `every`th photo (both eyes of a photo stay together).
 std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::filesystem::path& dir) {
-  auto chosen = [](const auto& list, const auto& value) {
-    return list.empty() || std::find(list.begin(), list.end(), value) != list.end();
-  };
+  auto listed = [](const auto& list, const auto& value) { return std::find(list.begin(), list.end(), value) != list.end(); };
+  auto chosen = [&](const auto& list, const auto& value) { return list.empty() || listed(list, value); };
   std::vector<ColumbiaCrop> crops;
   int photo_index = -1;
   std::string last_photo;
   for (const ColumbiaCrop& crop : ListColumbia(dir)) {
-    if (!chosen(options.subjects, crop.subject) || !chosen(options.poses, crop.head_pose)) continue;
+    if (!chosen(options.subjects, crop.subject) || listed(options.excluded_subjects, crop.subject) ||
+        !chosen(options.poses, crop.head_pose)) {
+      continue;
+    }
     if (crop.Photo() != last_photo) last_photo = crop.Photo(), ++photo_index;
     if (photo_index % options.every == 0) crops.push_back(crop);
   }
@@ -413,6 +416,8 @@ Command RegisterEvalCommand(CLI::App& root) {
     command->add_option("dir", options->columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
     command->add_flag("--json", options->json, "Print one JSON object");
     command->add_option("--subjects", options->subjects, "Only these subjects (e.g. 0001 0002)");
+    command->add_option("--exclude-subjects", options->excluded_subjects,
+                        "Leave these subjects out (the paper left out people wearing glasses)");
     command->add_option("--fit", options->fit_options,
                         "Fitter options as name=value (" + fmt::format("{}", fmt::join(ListFitOptions(), ", ")) + ")");
   };

@@ -94,8 +94,9 @@ TEST(RasterizerTest, VectorizedPathMatchesTheScalarPathBitForBit) {
   vectorized.Reset(100, 100);
   scalar.Reset(100, 100);
   scalar.set_vectorized(false);
-  vectorized.Draw(vertices.data(), triangles.data(), static_cast<int>(triangles.size()), 0, Eigen::Vector4i(5, 0, 90, 99));
-  scalar.Draw(vertices.data(), triangles.data(), static_cast<int>(triangles.size()), 0, Eigen::Vector4i(5, 0, 90, 99));
+  const int count = static_cast<int>(triangles.size()) - 5;  // batches of 8 and 16 end part-full
+  vectorized.Draw(vertices.data(), triangles.data(), count, 0, Eigen::Vector4i(5, 0, 90, 99));
+  scalar.Draw(vertices.data(), triangles.data(), count, 0, Eigen::Vector4i(5, 0, 90, 99));
   for (int i = 0; i < vectorized.size(); ++i) {
     ASSERT_EQ(vectorized.triangle(i), scalar.triangle(i)) << "pixel " << i;
     if (scalar.covered(i)) {
