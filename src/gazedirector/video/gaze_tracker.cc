@@ -35,6 +35,9 @@ bool AtALimit(const Parameters& phi) {
   return std::abs(phi.eyelid_pitch()) >= kLimit || std::abs(phi.gaze_pitch()) >= kLimit;
 }
 
+// A fit the fitter flags as bad, or one at a limit.
+bool Stuck(const FitResult& fit) { return !fit.good || AtALimit(fit.phi); }
+
 }  // namespace
 
 FitOptions WarmFitOptions() {
@@ -129,7 +132,7 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
     }
     // A blink's energy is unusual, and a fresh fit cannot see its gaze either.
     const bool degraded = !result.eyes_closed &&
-                          (!result.fit.good || AtALimit(result.fit.phi) ||
+                          (Stuck(result.fit) ||
                            (history->typical_energy > 0 &&
                             result.fit.terms.total() > options_.refit_ratio * history->typical_energy));
     if (degraded) {
@@ -139,7 +142,7 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
       fresh_.options() = settled ? HoldSettled(options_.fresh) : options_.fresh;
       keep_if_better(settled ? fresh_.RefitFace(image, camera, face, usual_start)
                              : fresh_.FitFace(image, camera, face));
-      if (settled && (!result.fit.good || AtALimit(result.fit.phi))) {
+      if (settled && Stuck(result.fit)) {
         // An expression the settled shape cannot follow (eyes opened wide
         // while looking aside): this frame, and the next ones while it
         // explains them better, get a shape and texture of their own.
