@@ -200,7 +200,12 @@ std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets)
 void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspace& work) const {
   const Eigen::Matrix3d rotation = phi.rotation();
   const Eigen::Vector3d translation = phi.translation();
-  shape_.Evaluate(phi.shape().data(), work.shape);
+  // Most renders of a fit change other parameters than the shape.
+  const auto beta = phi.shape();
+  if (work.shape_for.size() != beta.size() || work.shape_for != beta) {
+    shape_.Evaluate(beta.data(), work.shape);
+    work.shape_for = beta;
+  }
   posed.look_down_blend = static_cast<float>(LookDownBlend(phi.eyelid_pitch()));
 
   for (int eye = 0; eye < 2; ++eye) {

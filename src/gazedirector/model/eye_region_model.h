@@ -59,6 +59,7 @@ struct PosedModel {
 // Scratch space for posing, so that steady-state posing allocates nothing.
 struct PoseWorkspace {
   Eigen::Matrix3Xd shape;
+  Eigen::VectorXd shape_for;  // the β `shape` was evaluated for (empty before the first)
   Eigen::Matrix3Xd rigged;
   Eigen::Matrix3Xd normals;
   // Position and normal per vertex, padded to 8 floats for vector loads.

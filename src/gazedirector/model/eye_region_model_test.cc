@@ -58,6 +58,27 @@ TEST(EyeRegionModelTest, GazeMovesTheIrisTheRightWayByTheGeometricAmount) {
   EXPECT_LT(posed_ahead.eyes[0].gaze.z(), -0.99) << "looking at the camera";
 }
 
+TEST(EyeRegionModelTest, AReusedWorkspaceFollowsEveryChangeOfShape) {
+  // The workspace keeps the evaluated shape between poses; a new β must still reach every vertex.
+  PosedModel reused;
+  PoseWorkspace work;
+  Parameters phi = Frontal();
+  Model().Pose(phi, reused, work);
+  for (double beta : {2.0, -1.5, 0.0}) {
+    phi.shape()[3] = beta;
+    phi.gaze_pitch() = beta;
+    Model().Pose(phi, reused, work);
+    const PosedModel fresh = Pose(phi);
+    for (int part = 0; part < kNumParts; ++part) {
+      EXPECT_EQ(reused.parts[part].positions, fresh.parts[part].positions) << "beta " << beta << ", part " << part;
+    }
+  }
+  Parameters other = phi;
+  other.shape()[3] = 2.0;
+  EXPECT_GT((Pose(other).parts[kLeftSkin].positions - reused.parts[kLeftSkin].positions).cwiseAbs().maxCoeff(), 0.1)
+      << "shape mode 3 moves the skin";
+}
+
 TEST(EyeRegionModelTest, PitchYawInHeadInvertsGazeInHead) {
   for (double pitch : {-25.0, 0.0, 17.0}) {
     for (double yaw : {-40.0, -3.0, 0.0, 30.0}) {

@@ -120,12 +120,26 @@ void Renderer::ComposeSkinTexture(const Parameters& phi) {
   model_->skin_texture().Compose(tau.data(), skin_ahead_, skin_down_);
   composed_for_ = tau;
   composed_ = true;
+  mixed_level_ = -1;
+  // Room for the largest level, so that rendering allocates nothing later.
+  skin_mixed_.resize(static_cast<std::size_t>(skin_ahead_.size()) * skin_ahead_.size() * 4);
+}
+
+void Renderer::MixLookingDown(int level, float blend) {
+  if (blend <= 0 || (level == mixed_level_ && blend == mixed_blend_)) return;
+  const RgbaTexture::Level ahead = skin_ahead_.level(level), down = skin_down_.level(level);
+  const std::size_t floats = static_cast<std::size_t>(ahead.size) * ahead.size * 4;
+  for (std::size_t i = 0; i < floats; ++i) skin_mixed_[i] = ahead.texels[i] + blend * (down.texels[i] - ahead.texels[i]);
+  mixed_level_ = level;
+  mixed_blend_ = blend;
 }
 
 // What shading one render needs, gathered once.
 struct Renderer::ShadingInputs {
   RgbaTexture::Level skin_ahead;
   RgbaTexture::Level skin_down;
+  RgbaTexture::Level skin;  // the two already mixed by `blend`, when `mixed`
+  bool mixed;
   RgbaTexture::Level eyeball;
   int skin_level;
   float blend;
@@ -136,6 +150,7 @@ struct Renderer::ShadingInputs {
   // The skin's colour before lighting at a located texel (both skin
   // textures share their size), looking down as far as `blend` says.
   Eigen::Vector4f SkinAlbedo(int32_t offset, float fx, float fy) const {
+    if (mixed) return skin.SampleAt(offset, fx, fy);
     Eigen::Vector4f albedo = skin_ahead.SampleAt(offset, fx, fy);
     if (blend > 0) albedo += blend * (skin_down.SampleAt(offset, fx, fy) - albedo);
     return albedo;
@@ -162,6 +177,8 @@ Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& ca
   const RgbaTexture& eyeball = model_->eyeball_texture();
   in.eyeball = eyeball.level(eyeball.LevelFor(eyeball.size() * kEyeballUvPerMm / pixels_per_mm));
   in.blend = posed_.look_down_blend;
+  in.mixed = in.blend <= 0 || (mixed_level_ == in.skin_level && mixed_blend_ == in.blend);
+  in.skin = in.blend <= 0 ? in.skin_ahead : RgbaTexture::Level{skin_mixed_.data(), in.skin_ahead.size};
   in.iris = phi.iris_colour().cast<float>();
   in.sclera = phi.sclera_tint().cast<float>();
   for (int eye = 0; eye < 2; ++eye) {
@@ -223,7 +240,11 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
       a[7] = lambert;
     }
   }
-  const ShadingInputs in = Inputs(phi, camera);
+  ShadingInputs in = Inputs(phi, camera);
+  if (!in.mixed) {
+    MixLookingDown(in.skin_level, in.blend);
+    in = Inputs(phi, camera);
+  }
   out.colour.resize(static_cast<Eigen::Index>(out.foreground.size()), 3);
   for (int first = 0; first < static_cast<int>(out.foreground.size()); first += kShadingChunk) {
     ShadeChunk(in, first, out);
@@ -254,10 +275,10 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   }
   in.skin_ahead.LocateMany(u.data(), v.data(), count, offset.data(), fx.data(), fy.data());
   auto keep = [&](int j, const Eigen::Vector4f& albedo) { albedo_r[j] = albedo[0], albedo_g[j] = albedo[1], albedo_b[j] = albedo[2]; };
-  if (in.blend > 0) {
+  if (!in.mixed) {
     for (int j = 0; j < count; ++j) keep(j, in.SkinAlbedo(offset[j], fx[j], fy[j]));
   } else {
-    for (int j = 0; j < count; ++j) keep(j, in.skin_ahead.SampleAt(offset[j], fx[j], fy[j]));
+    for (int j = 0; j < count; ++j) keep(j, in.skin.SampleAt(offset[j], fx[j], fy[j]));
   }
   const Eigen::Index rows = out.colour.rows();
   float* red = out.colour.data() + first;

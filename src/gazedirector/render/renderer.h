@@ -95,6 +95,7 @@ class Renderer {
 
  private:
   void ComposeSkinTexture(const Parameters& phi);
+  void MixLookingDown(int level, float blend);
   struct ShadingInputs;
   struct PixelShading;
   [[gnu::always_inline]] inline PixelShading ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const;
@@ -113,6 +114,11 @@ class Renderer {
   RgbaTexture skin_down_;
   Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
   bool composed_ = false;
+  // One level of the composed skin looking down as far as `mixed_blend_`
+  // says: a render then samples one texture instead of two.
+  std::vector<float> skin_mixed_;
+  int mixed_level_ = -1;
+  float mixed_blend_ = 0;
   EyeballShading eyeball_shading_;
   std::array<bool, 2> eyes_ = {true, true};
 };

@@ -60,11 +60,14 @@ TEST(RendererTest, RendersAreDeterministicBitForBit) {
   RenderBuffers a, b, c;
   Parameters phi = Framed();
   phi.gaze_yaw() = 7.3;
+  phi.eyelid_pitch() = -12;  // the look-down skin mixed in
   first.Render(phi, kCamera, a);
   second.Render(phi, kCamera, b);
   Parameters other = phi;
   other.gaze_yaw() = -4;
-  first.Render(other, kCamera, c);  // something else in between
+  other.eyelid_pitch() = -20;
+  other.texture()[1] = 0.5;
+  first.Render(other, kCamera, c);  // something else in between, with another skin and mix
   first.Render(phi, kCamera, c);
   ASSERT_EQ(a.foreground, b.foreground);
   ASSERT_EQ(a.foreground, c.foreground);
