@@ -47,6 +47,18 @@ void BM_Shade(benchmark::State& state) {
 }
 BENCHMARK(BM_Shade);
 
+// Looking down, the skin's look-down texture is mixed in.
+void BM_ShadeLookingDown(benchmark::State& state) {
+  Scene& scene = TheScene();
+  Renderer renderer(scene.model);
+  RenderBuffers buffers;
+  Parameters phi = scene.phi;
+  phi.eyelid_pitch() = -12;
+  renderer.Render(phi, scene.camera, buffers);
+  for (auto _ : state) renderer.Shade(phi, scene.camera, buffers);
+}
+BENCHMARK(BM_ShadeLookingDown);
+
 void BM_Render(benchmark::State& state) {
   Scene& scene = TheScene();
   Renderer renderer(scene.model);
