@@ -125,15 +125,6 @@ void Renderer::ComposeSkinTexture(const Parameters& phi) {
   skin_mixed_.resize(static_cast<std::size_t>(skin_ahead_.size()) * skin_ahead_.size() * 4);
 }
 
-void Renderer::MixLookingDown(int level, float blend) {
-  if (blend <= 0 || (level == mixed_level_ && blend == mixed_blend_)) return;
-  const RgbaTexture::Level ahead = skin_ahead_.level(level), down = skin_down_.level(level);
-  const std::size_t floats = static_cast<std::size_t>(ahead.size) * ahead.size * 4;
-  for (std::size_t i = 0; i < floats; ++i) skin_mixed_[i] = ahead.texels[i] + blend * (down.texels[i] - ahead.texels[i]);
-  mixed_level_ = level;
-  mixed_blend_ = blend;
-}
-
 // What shading one render needs, gathered once.
 struct Renderer::ShadingInputs {
   RgbaTexture::Level skin_ahead;
@@ -189,6 +180,19 @@ Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& ca
   return in;
 }
 
+// Mixes the look-down skin into `in.skin` for a blend and level it was not
+// mixed for yet (Inputs already points `in.skin` at the mix).
+void Renderer::MixLookingDown(ShadingInputs& in) {
+  if (in.mixed) return;
+  const std::size_t floats = static_cast<std::size_t>(in.skin_ahead.size) * in.skin_ahead.size * 4;
+  const float* ahead = in.skin_ahead.texels;
+  const float* down = in.skin_down.texels;
+  for (std::size_t i = 0; i < floats; ++i) skin_mixed_[i] = ahead[i] + in.blend * (down[i] - ahead[i]);
+  mixed_level_ = in.skin_level;
+  mixed_blend_ = in.blend;
+  in.mixed = true;
+}
+
 inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const {
   const VisibilityBuffer& vis = out.visibility;
   const int pixel = out.foreground[index];
@@ -241,10 +245,7 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
     }
   }
   ShadingInputs in = Inputs(phi, camera);
-  if (!in.mixed) {
-    MixLookingDown(in.skin_level, in.blend);
-    in = Inputs(phi, camera);
-  }
+  MixLookingDown(in);
   out.colour.resize(static_cast<Eigen::Index>(out.foreground.size()), 3);
   for (int first = 0; first < static_cast<int>(out.foreground.size()); first += kShadingChunk) {
     ShadeChunk(in, first, out);
@@ -275,11 +276,7 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   }
   in.skin_ahead.LocateMany(u.data(), v.data(), count, offset.data(), fx.data(), fy.data());
   auto keep = [&](int j, const Eigen::Vector4f& albedo) { albedo_r[j] = albedo[0], albedo_g[j] = albedo[1], albedo_b[j] = albedo[2]; };
-  if (!in.mixed) {
-    for (int j = 0; j < count; ++j) keep(j, in.SkinAlbedo(offset[j], fx[j], fy[j]));
-  } else {
-    for (int j = 0; j < count; ++j) keep(j, in.skin.SampleAt(offset[j], fx[j], fy[j]));
-  }
+  for (int j = 0; j < count; ++j) keep(j, in.skin.SampleAt(offset[j], fx[j], fy[j]));  // Shade mixed it
   const Eigen::Index rows = out.colour.rows();
   float* red = out.colour.data() + first;
   float* green = red + rows;

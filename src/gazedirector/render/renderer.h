@@ -95,8 +95,8 @@ class Renderer {
 
  private:
   void ComposeSkinTexture(const Parameters& phi);
-  void MixLookingDown(int level, float blend);
   struct ShadingInputs;
+  void MixLookingDown(ShadingInputs& in);
   struct PixelShading;
   [[gnu::always_inline]] inline PixelShading ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const;
   ShadingInputs Inputs(const Parameters& phi, const Camera& camera) const;
