@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
@@ -47,6 +48,16 @@ int32_t WrappingEdge(int32_t ax, int32_t ay, int32_t bx, int32_t by, int32_t px,
 int32_t TopLeftBias(int32_t dx, int32_t dy) { return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1; }
 int32_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) { return TopLeftBias(b.x - a.x, b.y - a.y); }
 
+// Eight flags of 0 or 1 as the bits of a byte, flag i in bit i: one multiply
+// moves every flag into the top byte.
+unsigned LaneBits(const int32_t (&flags)[8]) {
+  uint8_t bytes[8];
+  for (int i = 0; i < 8; ++i) bytes[i] = static_cast<uint8_t>(flags[i]);
+  uint64_t packed;
+  std::memcpy(&packed, bytes, sizeof(packed));
+  return static_cast<unsigned>((packed * 0x0102040810204080ull) >> 56);
+}
+
 int32_t FloorPixel(int32_t v) { return v >> kSubpixelBits; }  // arithmetic shift floors
 int32_t CeilPixel(int32_t v) { return -((-v) >> kSubpixelBits); }
 
@@ -64,6 +75,36 @@ struct VisibilityBuffer::Prepared {
   int32_t id;
 };
 
+// Triangles set up a batch at a time, one per lane, each field an array that
+// vector registers store whole. A fill reads its lane's fields straight from
+// here: copying them out per triangle cost as much as the setup itself.
+struct VisibilityBuffer::PreparedBatch {
+  static constexpr int kLanes = 16;
+  alignas(64) int32_t row0[kLanes], row1[kLanes], row2[kLanes];
+  alignas(64) int32_t step_x0[kLanes], step_x1[kLanes], step_x2[kLanes];
+  alignas(64) int32_t step_y0[kLanes], step_y1[kLanes], step_y2[kLanes];
+  alignas(64) int32_t bias1[kLanes], bias2[kLanes];
+  alignas(64) float inverse_area[kLanes], z0[kLanes], dz1[kLanes], dz2[kLanes];
+  alignas(64) int32_t x0[kLanes], x1[kLanes], y0[kLanes], y1[kLanes];
+
+  Prepared Lane(int lane, int32_t id) const {
+    return {{row0[lane], row1[lane], row2[lane]},
+            {step_x0[lane], step_x1[lane], step_x2[lane]},
+            {step_y0[lane], step_y1[lane], step_y2[lane]},
+            bias1[lane],
+            bias2[lane],
+            inverse_area[lane],
+            z0[lane],
+            dz1[lane],
+            dz2[lane],
+            x0[lane],
+            x1[lane],
+            y0[lane],
+            y1[lane],
+            id};
+  }
+};
+
 void VisibilityBuffer::Reset(int width, int height) {
   width_ = width;
   height_ = height;
@@ -74,13 +115,14 @@ void VisibilityBuffer::Reset(int width, int height) {
   b2_.resize(n);
 }
 
-void VisibilityBuffer::FillRows(const Prepared& p) {
+[[gnu::always_inline]] inline void VisibilityBuffer::FillRows(const PreparedBatch& batch, int lane, int32_t id) {
 #if defined(GAZEDIRECTOR_AVX512) || defined(GAZEDIRECTOR_AVX2)
   if (vectorized_) {
-    FillRowsVectorized(p);
+    FillRowsVectorized(batch, lane, id);
     return;
   }
 #endif
+  const Prepared p = batch.Lane(lane, id);
   int32_t row0 = p.row[0], row1 = p.row[1], row2 = p.row[2];
   for (int y = p.y0; y <= p.y1; ++y) {
     int32_t w0 = row0, w1 = row1, w2 = row2;
@@ -131,7 +173,8 @@ struct LaneInterpolation {
 }  // namespace
 
 // Eight pixels of a row at a time.
-void VisibilityBuffer::FillRowsVectorized(const Prepared& p) {
+[[gnu::always_inline]] inline void VisibilityBuffer::FillRowsVectorized(const PreparedBatch& batch, int lane, int32_t id) {
+  const Prepared p = batch.Lane(lane, id);
   int32_t row0 = p.row[0], row1 = p.row[1], row2 = p.row[2];
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i lane_x0 = _mm256_mullo_epi32(lanes, _mm256_set1_epi32(p.step_x[0]));
@@ -171,7 +214,7 @@ void VisibilityBuffer::FillRowsVectorized(const Prepared& p) {
   // AVX2: whole eight-pixel stores of the old values blended with the new
   // ones (the buffers' padding keeps the last row's in bounds).
   if (p.x1 - p.x0 < 4 && width_ >= 4) {
-    FillRowPairs(p);
+    FillRowPairs(batch, lane, id);
     return;
   }
   for (int y = p.y0; y <= p.y1; ++y) {
@@ -223,7 +266,8 @@ void BlendRows(float* lo, float* hi, __m256 values, __m256 mask) {
 
 // A triangle at most four pixels wide (most of the model's, at the scale of
 // a fit) takes two rows per eight lanes: half the iterations of FillRowsVectorized.
-void VisibilityBuffer::FillRowPairs(const Prepared& p) {
+[[gnu::always_inline]] inline void VisibilityBuffer::FillRowPairs(const PreparedBatch& batch, int lane, int32_t id) {
+  const Prepared p = batch.Lane(lane, id);
   const __m256i column = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3);
   const __m256i upper = _mm256_setr_epi32(-1, -1, -1, -1, 0, 0, 0, 0), lower = _mm256_xor_si256(upper, _mm256_set1_epi32(-1));
   auto start = [&](int k) {
@@ -319,9 +363,8 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   const int32_t clip_x0 = clip[0], clip_y0 = clip[1], clip_x1 = clip[2], clip_y1 = clip[3];
   alignas(32) int32_t ax[kLanes], ay[kLanes], bx[kLanes], by[kLanes], cx[kLanes], cy[kLanes];
   alignas(32) float az[kLanes], bz[kLanes], cz[kLanes];
-  alignas(32) int32_t fill[kLanes], large[kLanes], row0[kLanes], row1[kLanes], row2[kLanes], bias1[kLanes],
-      bias2[kLanes], x0s[kLanes], x1s[kLanes], y0s[kLanes], y1s[kLanes];
-  alignas(32) float inverse[kLanes];
+  alignas(32) int32_t fill[kLanes], large[kLanes];  // 0 or 1
+  PreparedBatch p;
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
     // Lanes past the end repeat the last triangle and are never drawn.
@@ -343,34 +386,27 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
       fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
       large[i] = on_window & !small;
       const int32_t px = x0 * kOne, py = y0 * kOne;
-      bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
-      bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
-      row0[i] = WrappingEdge(bx[i], by[i], cx[i], cy[i], px, py) + TopLeftBias(cx[i] - bx[i], cy[i] - by[i]);
-      row1[i] = WrappingEdge(cx[i], cy[i], ax[i], ay[i], px, py) + bias1[i];
-      row2[i] = WrappingEdge(ax[i], ay[i], bx[i], by[i], px, py) + bias2[i];
-      inverse[i] = 1.0f / static_cast<float>(area);
-      x0s[i] = x0, x1s[i] = x1, y0s[i] = y0, y1s[i] = y1;
+      p.bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
+      p.bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
+      p.row0[i] = WrappingEdge(bx[i], by[i], cx[i], cy[i], px, py) + TopLeftBias(cx[i] - bx[i], cy[i] - by[i]);
+      p.row1[i] = WrappingEdge(cx[i], cy[i], ax[i], ay[i], px, py) + p.bias1[i];
+      p.row2[i] = WrappingEdge(ax[i], ay[i], bx[i], by[i], px, py) + p.bias2[i];
+      p.step_x0[i] = (cy[i] - by[i]) * kOne, p.step_x1[i] = (ay[i] - cy[i]) * kOne, p.step_x2[i] = (by[i] - ay[i]) * kOne;
+      p.step_y0[i] = (bx[i] - cx[i]) * kOne, p.step_y1[i] = (cx[i] - ax[i]) * kOne, p.step_y2[i] = (ax[i] - bx[i]) * kOne;
+      p.inverse_area[i] = 1.0f / static_cast<float>(area);
+      p.z0[i] = az[i], p.dz1[i] = bz[i] - az[i], p.dz2[i] = cz[i] - az[i];
+      p.x0[i] = x0, p.x1[i] = x1, p.y0[i] = y0, p.y1[i] = y1;
     }
-    for (int i = 0; i < count; ++i) {
-      const int32_t id = id_offset + first + i;
-      if (large[i]) {
-        DrawOne(vertices, triangles[first + i], id, clip);
-      } else if (fill[i]) {
-        const Prepared p{{row0[i], row1[i], row2[i]},
-                         {(cy[i] - by[i]) * kOne, (ay[i] - cy[i]) * kOne, (by[i] - ay[i]) * kOne},
-                         {(bx[i] - cx[i]) * kOne, (cx[i] - ax[i]) * kOne, (ax[i] - bx[i]) * kOne},
-                         bias1[i],
-                         bias2[i],
-                         inverse[i],
-                         az[i],
-                         bz[i] - az[i],
-                         cz[i] - az[i],
-                         x0s[i],
-                         x1s[i],
-                         y0s[i],
-                         y1s[i],
-                         id};
-        FillRows(p);
+    // The lanes to draw as bits, walked in order (a branch per lane mispredicts).
+    const unsigned fill_bits = LaneBits(fill), large_bits = LaneBits(large);
+    const unsigned in_batch = (1u << count) - 1;
+    for (unsigned todo = (fill_bits | large_bits) & in_batch; todo != 0; todo &= todo - 1) {
+      const int lane = __builtin_ctz(todo);
+      const int32_t id = id_offset + first + lane;
+      if (large_bits >> lane & 1) {
+        DrawOne(vertices, triangles[first + lane], id, clip);
+      } else {
+        FillRows(p, lane, id);
       }
     }
   }
@@ -399,18 +435,18 @@ void VisibilityBuffer::DrawOne(const ScreenVertex* vertices, const Eigen::Vector
     FillLarge(a, b, c, area, x0, x1, y0, y1, id);
     return;
   }
-  Prepared p;
+  PreparedBatch p;
   const int64_t px = static_cast<int64_t>(x0) * kOne, py = static_cast<int64_t>(y0) * kOne;
-  p.bias1 = TopLeftBias(c, a), p.bias2 = TopLeftBias(a, b);
-  p.row[0] = static_cast<int32_t>(Edge(b, c, px, py)) + TopLeftBias(b, c);
-  p.row[1] = static_cast<int32_t>(Edge(c, a, px, py)) + p.bias1;
-  p.row[2] = static_cast<int32_t>(Edge(a, b, px, py)) + p.bias2;
-  p.step_x[0] = (c.y - b.y) * kOne, p.step_x[1] = (a.y - c.y) * kOne, p.step_x[2] = (b.y - a.y) * kOne;
-  p.step_y[0] = (b.x - c.x) * kOne, p.step_y[1] = (c.x - a.x) * kOne, p.step_y[2] = (a.x - b.x) * kOne;
-  p.inverse_area = 1.0f / static_cast<float>(area);
-  p.z0 = a.z, p.dz1 = b.z - a.z, p.dz2 = c.z - a.z;
-  p.x0 = x0, p.x1 = x1, p.y0 = y0, p.y1 = y1, p.id = id;
-  FillRows(p);
+  p.bias1[0] = TopLeftBias(c, a), p.bias2[0] = TopLeftBias(a, b);
+  p.row0[0] = static_cast<int32_t>(Edge(b, c, px, py)) + TopLeftBias(b, c);
+  p.row1[0] = static_cast<int32_t>(Edge(c, a, px, py)) + p.bias1[0];
+  p.row2[0] = static_cast<int32_t>(Edge(a, b, px, py)) + p.bias2[0];
+  p.step_x0[0] = (c.y - b.y) * kOne, p.step_x1[0] = (a.y - c.y) * kOne, p.step_x2[0] = (b.y - a.y) * kOne;
+  p.step_y0[0] = (b.x - c.x) * kOne, p.step_y1[0] = (c.x - a.x) * kOne, p.step_y2[0] = (a.x - b.x) * kOne;
+  p.inverse_area[0] = 1.0f / static_cast<float>(area);
+  p.z0[0] = a.z, p.dz1[0] = b.z - a.z, p.dz2[0] = c.z - a.z;
+  p.x0[0] = x0, p.x1[0] = x1, p.y0[0] = y0, p.y1[0] = y1;
+  FillRows(p, 0, id);
 }
 
 #if defined(GAZEDIRECTOR_AVX512)
@@ -453,9 +489,7 @@ void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Ve
   const __m512 near = _mm512_set1_ps(kNearDepth);
   const __m512i rounding = _mm512_set1_epi32(kOne - 1);
 
-  alignas(64) int32_t row0[16], row1[16], row2[16], sx0[16], sx1[16], sx2[16], sy0[16], sy1[16], sy2[16];
-  alignas(64) int32_t bias1[16], bias2[16], x0s[16], x1s[16], y0s[16], y1s[16];
-  alignas(64) float inverse[16], z0s[16], dz1s[16], dz2s[16];
+  PreparedBatch p;
 
   for (int first = 0; first < num_triangles; first += 16) {
     const __mmask16 valid = static_cast<__mmask16>(num_triangles - first >= 16 ? 0xFFFF : (1u << (num_triangles - first)) - 1);
@@ -528,40 +562,26 @@ void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Ve
       return _mm512_sub_epi32(_mm512_mullo_epi32(_mm512_sub_epi32(to_y, from_y), _mm512_sub_epi32(px, from_x)),
                               _mm512_mullo_epi32(_mm512_sub_epi32(to_x, from_x), _mm512_sub_epi32(py, from_y)));
     };
-    _mm512_store_si512(row0, _mm512_add_epi32(edge(bx, by, cx, cy), b0v));
-    _mm512_store_si512(row1, _mm512_add_epi32(edge(cx, cy, ax, ay), b1v));
-    _mm512_store_si512(row2, _mm512_add_epi32(edge(ax, ay, bx, by), b2v));
-    _mm512_store_si512(bias1, b1v);
-    _mm512_store_si512(bias2, b2v);
-    _mm512_store_si512(sx0, _mm512_slli_epi32(_mm512_sub_epi32(cy, by), kSubpixelBits));
-    _mm512_store_si512(sx1, _mm512_slli_epi32(_mm512_sub_epi32(ay, cy), kSubpixelBits));
-    _mm512_store_si512(sx2, _mm512_slli_epi32(_mm512_sub_epi32(by, ay), kSubpixelBits));
-    _mm512_store_si512(sy0, _mm512_slli_epi32(_mm512_sub_epi32(bx, cx), kSubpixelBits));
-    _mm512_store_si512(sy1, _mm512_slli_epi32(_mm512_sub_epi32(cx, ax), kSubpixelBits));
-    _mm512_store_si512(sy2, _mm512_slli_epi32(_mm512_sub_epi32(ax, bx), kSubpixelBits));
-    _mm512_store_si512(x0s, x0), _mm512_store_si512(x1s, x1), _mm512_store_si512(y0s, y0), _mm512_store_si512(y1s, y1);
-    _mm512_store_ps(inverse, _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_cvtepi32_ps(area)));
-    _mm512_store_ps(z0s, az);
-    _mm512_store_ps(dz1s, _mm512_sub_ps(bz, az));
-    _mm512_store_ps(dz2s, _mm512_sub_ps(cz, az));
+    _mm512_store_si512(p.row0, _mm512_add_epi32(edge(bx, by, cx, cy), b0v));
+    _mm512_store_si512(p.row1, _mm512_add_epi32(edge(cx, cy, ax, ay), b1v));
+    _mm512_store_si512(p.row2, _mm512_add_epi32(edge(ax, ay, bx, by), b2v));
+    _mm512_store_si512(p.bias1, b1v);
+    _mm512_store_si512(p.bias2, b2v);
+    _mm512_store_si512(p.step_x0, _mm512_slli_epi32(_mm512_sub_epi32(cy, by), kSubpixelBits));
+    _mm512_store_si512(p.step_x1, _mm512_slli_epi32(_mm512_sub_epi32(ay, cy), kSubpixelBits));
+    _mm512_store_si512(p.step_x2, _mm512_slli_epi32(_mm512_sub_epi32(by, ay), kSubpixelBits));
+    _mm512_store_si512(p.step_y0, _mm512_slli_epi32(_mm512_sub_epi32(bx, cx), kSubpixelBits));
+    _mm512_store_si512(p.step_y1, _mm512_slli_epi32(_mm512_sub_epi32(cx, ax), kSubpixelBits));
+    _mm512_store_si512(p.step_y2, _mm512_slli_epi32(_mm512_sub_epi32(ax, bx), kSubpixelBits));
+    _mm512_store_si512(p.x0, x0), _mm512_store_si512(p.x1, x1), _mm512_store_si512(p.y0, y0), _mm512_store_si512(p.y1, y1);
+    _mm512_store_ps(p.inverse_area, _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_cvtepi32_ps(area)));
+    _mm512_store_ps(p.z0, az);
+    _mm512_store_ps(p.dz1, _mm512_sub_ps(bz, az));
+    _mm512_store_ps(p.dz2, _mm512_sub_ps(cz, az));
 
     for (; live != 0; live &= live - 1) {
       const int lane = __builtin_ctz(live);
-      const Prepared p{{row0[lane], row1[lane], row2[lane]},
-                       {sx0[lane], sx1[lane], sx2[lane]},
-                       {sy0[lane], sy1[lane], sy2[lane]},
-                       bias1[lane],
-                       bias2[lane],
-                       inverse[lane],
-                       z0s[lane],
-                       dz1s[lane],
-                       dz2s[lane],
-                       x0s[lane],
-                       x1s[lane],
-                       y0s[lane],
-                       y1s[lane],
-                       id_offset + first + lane};
-      FillRows(p);
+      FillRows(p, lane, id_offset + first + lane);
     }
   }
 }

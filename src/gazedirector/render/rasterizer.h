@@ -78,14 +78,15 @@ class VisibilityBuffer {
   std::vector<float> b2_;
 
   struct Prepared;
+  struct PreparedBatch;
   void DrawOne(const ScreenVertex* vertices, const Eigen::Vector3i& triangle, int32_t id, const Eigen::Vector4i& clip);
   void DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles, int32_t id_offset,
                    const Eigen::Vector4i& clip);
   void DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
                            int32_t id_offset, const Eigen::Vector4i& clip);
-  void FillRows(const Prepared& triangle);
-  void FillRowsVectorized(const Prepared& triangle);
-  void FillRowPairs(const Prepared& triangle);
+  void FillRows(const PreparedBatch& batch, int lane, int32_t id);
+  void FillRowsVectorized(const PreparedBatch& batch, int lane, int32_t id);
+  void FillRowPairs(const PreparedBatch& batch, int lane, int32_t id);
   void FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1,
                  int y0, int y1, int32_t id);
 
