@@ -15,8 +15,6 @@ namespace {
 constexpr float kSkinTexelsPerMm = SkinTextureModel::kSize / 70.0f;
 constexpr float kEyeballUvPerMm = topology::kLimbusUvRadius / topology::kLimbusRadiusMm;
 
-using Attributes = Eigen::Matrix<float, 8, 1>;
-
 float Cubic(const Eigen::Vector4f& c, float x) { return c[0] + x * (c[1] + x * (c[2] + x * c[3])); }
 
 // Darkening that fades smoothly from `strength` at the lid margin to none at
@@ -61,7 +59,7 @@ cv::Mat RenderBuffers::PartImage() const {
 
 Renderer::Renderer(std::shared_ptr<const EyeRegionModel> model) : model_(std::move(model)) {
   screen_.resize(static_cast<std::size_t>(model_->total_vertices()));
-  attributes_.setZero(8, model_->total_vertices());
+  surface_.setZero(4, model_->total_vertices());
 }
 
 void Renderer::Render(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
@@ -135,6 +133,7 @@ struct Renderer::ShadingInputs {
   int skin_level;
   float blend;
   Eigen::Vector3f iris, sclera;
+  Eigen::Vector3f ambient, light_colour;
   Eigen::Vector4f upper_lid[2], lower_lid[2];
   EyeballShading shading;
 
@@ -150,12 +149,13 @@ struct Renderer::ShadingInputs {
 
 // One pixel's shading and the pieces its linear derivatives need.
 struct Renderer::PixelShading {
-  Attributes a;            // interpolated vertex attributes
+  Eigen::Vector2f uv;      // interpolated texture coordinates
+  float lambert;           // interpolated Lambertian factor max(0, n.l)
+  Eigen::Vector3f light;   // ambient + directional light
   Eigen::Vector3f albedo;  // colour before lighting
   bool eyeball;
   Eigen::Vector3f base;    // eyeball: texture colour with occlusion, before tinting
   float iris_weight;       // eyeball: 1 on the iris, 0 on the sclera
-  Eigen::Vector2f uv;
 };
 
 Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& camera) const {
@@ -172,6 +172,8 @@ Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& ca
   in.skin = in.blend <= 0 ? in.skin_ahead : RgbaTexture::Level{skin_mixed_.data(), in.skin_ahead.size};
   in.iris = phi.iris_colour().cast<float>();
   in.sclera = phi.sclera_tint().cast<float>();
+  in.ambient = phi.ambient().cast<float>();
+  in.light_colour = phi.light_colour().cast<float>();
   for (int eye = 0; eye < 2; ++eye) {
     in.upper_lid[eye] = posed_.eyes[eye].upper_lid.cast<float>();
     in.lower_lid[eye] = posed_.eyes[eye].lower_lid.cast<float>();
@@ -200,9 +202,10 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
   const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
   const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
   PixelShading shading;
-  Attributes& a = shading.a;
-  a = b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
+  const Eigen::Vector4f a = b0 * surface_.col(t[0]) + b1 * surface_.col(t[1]) + b2 * surface_.col(t[2]);
   shading.uv = a.head<2>();
+  shading.lambert = a[2];
+  shading.light = in.ambient + in.light_colour * shading.lambert;
   shading.eyeball = IsEyeball(part);
   if (!shading.eyeball) {
     int32_t offset;
@@ -211,10 +214,15 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
     shading.albedo = in.SkinAlbedo(offset, fx, fy).head<3>();
   } else {
     const Eigen::Vector4f base = in.eyeball.Sample(a[0], a[1]);
-    // Ambient occlusion: darker toward the lid margins, in the eyeball's angular frame.
+    // Ambient occlusion: darker toward the lid margins, in the eyeball's
+    // angular frame (azimuth, elevation).
     const int eye = EyeOfPart(part);
-    const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], a[5]) - a[6]);
-    const float above_lower = std::max(0.0f, a[6] - Cubic(in.lower_lid[eye], a[5]));
+    const Eigen::Matrix2Xf& angles = model_->eyeball_angles();
+    const int first = model_->vertex_offset(part);
+    const Eigen::Vector2f angle =
+        b0 * angles.col(t[0] - first) + b1 * angles.col(t[1] - first) + b2 * angles.col(t[2] - first);
+    const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], angle[0]) - angle[1]);
+    const float above_lower = std::max(0.0f, angle[1] - Cubic(in.lower_lid[eye], angle[0]));
     const float occlusion = Occlusion(below_upper, in.shading.upper_lid_occlusion, in.shading.occlusion_width_rad) *
                             Occlusion(above_lower, in.shading.lower_lid_occlusion, in.shading.occlusion_width_rad);
     shading.base = base.head<3>() * occlusion;
@@ -226,22 +234,17 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
 
 void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
   ComposeSkinTexture(phi);
-  // Per-vertex attributes: texture coordinates, Lambertian light, and the
-  // eyeball's angular coordinates.
+  // Per vertex: texture coordinates and the Lambertian factor. The light's
+  // colours are applied per pixel (colour is affine in the factor).
   const Eigen::Vector3f light = phi.LightDirection().cast<float>();
-  const Eigen::Vector3f ambient = phi.ambient().cast<float>();
-  const Eigen::Vector3f light_colour = phi.light_colour().cast<float>();
   for (int part = 0; part < kNumParts; ++part) {
     if (!eyes_[EyeOfPart(part)]) continue;
     const PosedPart& posed = posed_.parts[part];
     const int offset = model_->vertex_offset(part);
     for (Eigen::Index i = 0; i < posed.normals.cols(); ++i) {
-      auto a = attributes_.col(offset + i);
-      const float lambert = std::max(0.0f, posed.normals.col(i).dot(light));
+      auto a = surface_.col(offset + i);
       a.head<2>() = posed.uvs.col(i);
-      a.segment<3>(2) = ambient + light_colour * lambert;
-      if (IsEyeball(part)) a.segment<2>(5) = model_->eyeball_angles().col(i);
-      a[7] = lambert;
+      a[2] = std::max(0.0f, posed.normals.col(i).dot(light));
     }
   }
   ShadingInputs in = Inputs(phi, camera);
@@ -262,7 +265,7 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   const VisibilityBuffer& vis = out.visibility;
   const Eigen::Vector3i* triangles = model_->all_triangles().data();
   const int32_t first_eyeball = out.part_offsets[kLeftEyeball];
-  alignas(64) std::array<float, kShadingChunk> u, v, fx, fy, light_r, light_g, light_b, albedo_r, albedo_g, albedo_b;
+  alignas(64) std::array<float, kShadingChunk> u, v, fx, fy, lambert, albedo_r, albedo_g, albedo_b;
   alignas(64) std::array<int32_t, kShadingChunk> offset;
   uint64_t eyeballs = 0;
   for (int j = 0; j < count; ++j) {
@@ -271,8 +274,8 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
     eyeballs |= static_cast<uint64_t>(id >= first_eyeball) << j;
     const Eigen::Vector3i& t = triangles[id];
     const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
-    const Attributes a = b0 * attributes_.col(t[0]) + b1 * attributes_.col(t[1]) + b2 * attributes_.col(t[2]);
-    u[j] = a[0], v[j] = a[1], light_r[j] = a[2], light_g[j] = a[3], light_b[j] = a[4];
+    const Eigen::Vector4f a = b0 * surface_.col(t[0]) + b1 * surface_.col(t[1]) + b2 * surface_.col(t[2]);
+    u[j] = a[0], v[j] = a[1], lambert[j] = a[2];
   }
   in.skin_ahead.LocateMany(u.data(), v.data(), count, offset.data(), fx.data(), fy.data());
   auto keep = [&](int j, const Eigen::Vector4f& albedo) { albedo_r[j] = albedo[0], albedo_g[j] = albedo[1], albedo_b[j] = albedo[2]; };
@@ -281,13 +284,17 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   float* red = out.colour.data() + first;
   float* green = red + rows;
   float* blue = green + rows;
+  const float ambient_r = in.ambient[0], ambient_g = in.ambient[1], ambient_b = in.ambient[2];
+  const float light_r = in.light_colour[0], light_g = in.light_colour[1], light_b = in.light_colour[2];
   for (int j = 0; j < count; ++j) {
-    red[j] = albedo_r[j] * light_r[j], green[j] = albedo_g[j] * light_g[j], blue[j] = albedo_b[j] * light_b[j];
+    red[j] = albedo_r[j] * (ambient_r + light_r * lambert[j]);
+    green[j] = albedo_g[j] * (ambient_g + light_g * lambert[j]);
+    blue[j] = albedo_b[j] * (ambient_b + light_b * lambert[j]);
   }
   for (; eyeballs != 0; eyeballs &= eyeballs - 1) {
     const int j = __builtin_ctzll(eyeballs);
     const PixelShading shading = ShadePixel(in, first + j, out);
-    out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.a.segment<3>(2)).transpose();
+    out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.light).transpose();
   }
 }
 
@@ -332,10 +339,10 @@ void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const
   };
   for (int i = 0; i < count; ++i) {
     const PixelShading s = ShadePixel(in, i, buffers);
-    const Eigen::Vector3f shade = s.a.segment<3>(2);
+    const Eigen::Vector3f& shade = s.light;
     for (int c = 0; c < 3; ++c) {
       set(i, c, kAmbient + c, s.albedo[c]);
-      set(i, c, kLight + c, s.albedo[c] * s.a[7]);
+      set(i, c, kLight + c, s.albedo[c] * s.lambert);
     }
     if (s.eyeball) {
       for (int c = 0; c < 3; ++c) {

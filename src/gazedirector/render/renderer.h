@@ -107,9 +107,9 @@ class Renderer {
   PosedModel posed_;
   PoseWorkspace workspace_;
   std::vector<ScreenVertex> screen_;  // all parts' vertices, concatenated
-  // Per vertex, packed for one vector load: u, v, light r, g, b, the
-  // eyeball's azimuth and elevation, and the Lambertian factor max(0, n.l).
-  Eigen::Matrix<float, 8, Eigen::Dynamic> attributes_;
+  // Per vertex, packed for one vector load: texture u, v and the Lambertian
+  // factor max(0, n.l) (the fourth float pads).
+  Eigen::Matrix<float, 4, Eigen::Dynamic> surface_;
   RgbaTexture skin_ahead_;  // the composed skin texture
   RgbaTexture skin_down_;
   Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
