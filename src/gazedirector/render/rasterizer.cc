@@ -76,8 +76,9 @@ struct VisibilityBuffer::Prepared {
 };
 
 // Triangles set up a batch at a time, one per lane, each field an array that
-// vector registers store whole. A fill reads its lane's fields straight from
-// here: copying them out per triangle cost as much as the setup itself.
+// vector registers store whole. The fills are inlined into the batch loops and
+// read their lane's fields from here, so only the fields a fill uses are
+// loaded, and no per-triangle copy or call is made.
 struct VisibilityBuffer::PreparedBatch {
   static constexpr int kLanes = 16;
   alignas(64) int32_t row0[kLanes], row1[kLanes], row2[kLanes];
