@@ -137,6 +137,10 @@ struct Renderer::ShadingInputs {
   Eigen::Vector4f upper_lid[2], lower_lid[2];
   EyeballShading shading;
 
+  // Ambient plus directional light at a Lambertian factor (ShadeChunk applies
+  // the same per channel, vectorised).
+  Eigen::Vector3f Light(float lambert) const { return ambient + light_colour * lambert; }
+
   // The skin's colour before lighting at a located texel (both skin
   // textures share their size), looking down as far as `blend` says.
   Eigen::Vector4f SkinAlbedo(int32_t offset, float fx, float fy) const {
@@ -205,7 +209,7 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
   const Eigen::Vector4f a = b0 * surface_.col(t[0]) + b1 * surface_.col(t[1]) + b2 * surface_.col(t[2]);
   shading.uv = a.head<2>();
   shading.lambert = a[2];
-  shading.light = in.ambient + in.light_colour * shading.lambert;
+  shading.light = in.Light(shading.lambert);
   shading.eyeball = IsEyeball(part);
   if (!shading.eyeball) {
     int32_t offset;
@@ -218,9 +222,9 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
     // angular frame (azimuth, elevation).
     const int eye = EyeOfPart(part);
     const Eigen::Matrix2Xf& angles = model_->eyeball_angles();
-    const int first = model_->vertex_offset(part);
-    const Eigen::Vector2f angle =
-        b0 * angles.col(t[0] - first) + b1 * angles.col(t[1] - first) + b2 * angles.col(t[2] - first);
+    const int first_vertex = model_->vertex_offset(part);
+    const Eigen::Vector2f angle = b0 * angles.col(t[0] - first_vertex) + b1 * angles.col(t[1] - first_vertex) +
+                                  b2 * angles.col(t[2] - first_vertex);
     const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], angle[0]) - angle[1]);
     const float above_lower = std::max(0.0f, angle[1] - Cubic(in.lower_lid[eye], angle[0]));
     const float occlusion = Occlusion(below_upper, in.shading.upper_lid_occlusion, in.shading.occlusion_width_rad) *
