@@ -28,6 +28,9 @@ constexpr float kNearDepth = 1.0f;  // mm
 // last eight pixels can be loaded and stored whole (AVX2 has no fast masked
 // store on AMD).
 constexpr std::size_t kPadding = 8;
+// Triangles whose pixel boxes are at most this many pixels wide and high are
+// filled a batch at a time, one triangle per vector lane (FillStamps).
+constexpr int32_t kStampSize = 6;
 
 // Twice the signed area of (a, b, p), positive when p lies to the right of
 // a -> b on the y-down screen.
@@ -265,8 +268,9 @@ void BlendRows(float* lo, float* hi, __m256 values, __m256 mask) {
 
 }  // namespace
 
-// A triangle at most four pixels wide (most of the model's, at the scale of
-// a fit) takes two rows per eight lanes: half the iterations of FillRowsVectorized.
+// A triangle at most four pixels wide (at the scale of a fit, most of those
+// too tall for FillStamps) takes two rows per eight lanes: half the
+// iterations of FillRowsVectorized.
 [[gnu::always_inline]] inline void VisibilityBuffer::FillRowPairs(const PreparedBatch& batch, int lane, int32_t id) {
   const Prepared p = batch.Lane(lane, id);
   const __m256i column = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3);
@@ -299,6 +303,74 @@ void BlendRows(float* lo, float* hi, __m256 values, __m256 mask) {
       }
     }
     w0 = _mm256_add_epi32(w0, down0), w1 = _mm256_add_epi32(w1, down1), w2 = _mm256_add_epi32(w2, down2);
+  }
+}
+#endif
+
+#if defined(GAZEDIRECTOR_AVX2)
+// Up to eight small triangles of a batch at once, one per lane: each step
+// tests the pixel at the same offset in every lane's box. A triangle of a few
+// pixels leaves most of a row-wise fill's lanes idle; here the lanes are
+// triangles, so they stay busy. The pixels found inside are written one by
+// one, each with its own depth test, so two triangles of the batch may cover
+// the same pixel. The arithmetic is FillRows', so the values are bit for bit
+// the same; the order of the writes differs from one triangle after another,
+// which matters only where two triangles reach a pixel centre at exactly the
+// same depth.
+void VisibilityBuffer::FillStamps(const PreparedBatch& p, unsigned lanes, int32_t first_id) {
+  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  const __m256i active = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(lanes)), lane_bit), lane_bit);
+  auto load = [](const int32_t* field) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(field)); };
+  const __m256i x0 = load(p.x0), y0 = load(p.y0);
+  const __m256i columns = _mm256_sub_epi32(load(p.x1), x0), rows = _mm256_sub_epi32(load(p.y1), y0);  // box size - 1
+  // The largest box among the active lanes (each at least 0 wide and high).
+  auto largest = [&](__m256i sizes) {
+    __m128i m = _mm_max_epi32(_mm256_castsi256_si128(sizes), _mm256_extracti128_si256(sizes, 1));
+    m = _mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+  };
+  const int max_columns = largest(_mm256_and_si256(columns, active)), max_rows = largest(_mm256_and_si256(rows, active));
+  const __m256i first_pixel = _mm256_add_epi32(_mm256_mullo_epi32(y0, _mm256_set1_epi32(width_)), x0);
+  const __m256i step_x0 = load(p.step_x0), step_x1 = load(p.step_x1), step_x2 = load(p.step_x2);
+  const __m256i step_y0 = load(p.step_y0), step_y1 = load(p.step_y1), step_y2 = load(p.step_y2);
+  const __m256i unbias1 = load(p.bias1), unbias2 = load(p.bias2);
+  const __m256 inverse = _mm256_load_ps(p.inverse_area), z0 = _mm256_load_ps(p.z0);
+  const __m256 dz1 = _mm256_load_ps(p.dz1), dz2 = _mm256_load_ps(p.dz2);
+  alignas(32) float depths[8], b1s[8], b2s[8];
+  alignas(32) int32_t pixels[8];
+  float* const depth = depth_.data();
+  int32_t* const triangle = triangle_.data();
+  float* const b1_out = b1_.data();
+  float* const b2_out = b2_.data();
+  __m256i row0 = load(p.row0), row1 = load(p.row1), row2 = load(p.row2);
+  for (int dy = 0; dy <= max_rows; ++dy) {
+    // The active lanes whose box has row dy, and then column dx.
+    const __m256i valid_row = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dy), rows), active);
+    __m256i w0 = row0, w1 = row1, w2 = row2;
+    for (int dx = 0; dx <= max_columns; ++dx) {
+      const __m256i valid = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dx), columns), valid_row);
+      const __m256i inside = _mm256_and_si256(valid, _mm256_cmpgt_epi32(_mm256_or_si256(_mm256_or_si256(w0, w1), w2),
+                                                                         _mm256_set1_epi32(-1)));
+      unsigned hits = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside)));
+      if (hits != 0) {
+        const __m256 b1 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w1, unbias1)), inverse);
+        const __m256 b2 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w2, unbias2)), inverse);
+        _mm256_store_ps(depths, _mm256_add_ps(_mm256_add_ps(z0, _mm256_mul_ps(b1, dz1)), _mm256_mul_ps(b2, dz2)));
+        _mm256_store_ps(b1s, b1);
+        _mm256_store_ps(b2s, b2);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(pixels),
+                           _mm256_add_epi32(first_pixel, _mm256_set1_epi32(dy * width_ + dx)));
+        for (; hits != 0; hits &= hits - 1) {
+          const int lane = __builtin_ctz(hits);
+          const int pixel = pixels[lane];
+          if (depths[lane] < depth[pixel]) {
+            depth[pixel] = depths[lane], triangle[pixel] = first_id + lane, b1_out[pixel] = b1s[lane], b2_out[pixel] = b2s[lane];
+          }
+        }
+      }
+      w0 = _mm256_add_epi32(w0, step_x0), w1 = _mm256_add_epi32(w1, step_x1), w2 = _mm256_add_epi32(w2, step_x2);
+    }
+    row0 = _mm256_add_epi32(row0, step_y0), row1 = _mm256_add_epi32(row1, step_y1), row2 = _mm256_add_epi32(row2, step_y2);
   }
 }
 #endif
@@ -364,7 +436,7 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   const int32_t clip_x0 = clip[0], clip_y0 = clip[1], clip_x1 = clip[2], clip_y1 = clip[3];
   alignas(32) int32_t ax[kLanes], ay[kLanes], bx[kLanes], by[kLanes], cx[kLanes], cy[kLanes];
   alignas(32) float az[kLanes], bz[kLanes], cz[kLanes];
-  alignas(32) int32_t fill[kLanes], large[kLanes];  // 0 or 1
+  alignas(32) int32_t fill[kLanes], large[kLanes], stamp[kLanes];  // 0 or 1
   PreparedBatch p;
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
@@ -386,6 +458,7 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
       const int32_t y0 = std::max(clip_y0, CeilPixel(min_y)), y1 = std::min(clip_y1, FloorPixel(max_y));
       fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
       large[i] = on_window & !small;
+      stamp[i] = fill[i] & (x1 - x0 < kStampSize) & (y1 - y0 < kStampSize);
       const int32_t px = x0 * kOne, py = y0 * kOne;
       p.bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
       p.bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
@@ -401,7 +474,12 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
     // The lanes to draw as bits, walked in order (a branch per lane mispredicts).
     const unsigned fill_bits = LaneBits(fill), large_bits = LaneBits(large);
     const unsigned in_batch = (1u << count) - 1;
-    for (unsigned todo = (fill_bits | large_bits) & in_batch; todo != 0; todo &= todo - 1) {
+    unsigned stamp_bits = 0;
+#if defined(GAZEDIRECTOR_AVX2)
+    stamp_bits = LaneBits(stamp) & in_batch;
+    if (stamp_bits != 0) FillStamps(p, stamp_bits, id_offset + first);
+#endif
+    for (unsigned todo = (fill_bits | large_bits) & in_batch & ~stamp_bits; todo != 0; todo &= todo - 1) {
       const int lane = __builtin_ctz(todo);
       const int32_t id = id_offset + first + lane;
       if (large_bits >> lane & 1) {

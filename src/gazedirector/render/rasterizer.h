@@ -63,10 +63,12 @@ class VisibilityBuffer {
 
   // Whether vector instructions are used where the build has them (the
   // default): rows are filled eight pixels at a time with AVX2 or AVX-512
-  // (with AVX2, triangles up to four pixels wide two rows at a time),
-  // triangles set up eight or sixteen at a time, covered pixels collected
-  // eight or sixteen at a time. Off, everything takes the scalar path. Both
-  // give identical buffers and pixel lists.
+  // (with AVX2, triangles up to four pixels wide two rows at a time, and
+  // those up to six pixels wide and high eight triangles at a time, one per
+  // lane), triangles set up eight or sixteen at a time, covered pixels
+  // collected eight or sixteen at a time. Off, everything takes the scalar
+  // path. Both give identical buffers and pixel lists (up to which of two
+  // triangles wins a pixel centre they reach at exactly the same depth).
   void set_vectorized(bool on) { vectorized_ = on; }
 
  private:
@@ -87,6 +89,7 @@ class VisibilityBuffer {
   void FillRows(const PreparedBatch& batch, int lane, int32_t id);
   void FillRowsVectorized(const PreparedBatch& batch, int lane, int32_t id);
   void FillRowPairs(const PreparedBatch& batch, int lane, int32_t id);
+  void FillStamps(const PreparedBatch& batch, unsigned lanes, int32_t first_id);
   void FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1,
                  int y0, int y1, int32_t id);
 
