@@ -426,6 +426,43 @@ void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i*
   for (int t = 0; t < num_triangles; ++t) DrawOne(vertices, triangles[t], id_offset + t, clip);
 }
 
+#if defined(GAZEDIRECTOR_AVX2)
+namespace {
+
+// One corner of eight triangles: each vertex read by one vector load, the
+// eight transposed into x, y and z (lanes past `count` repeat the last).
+[[gnu::always_inline]] inline void GatherCorner(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
+                                                int last, int corner, int32_t* x, int32_t* y, float* z) {
+  auto vertex = [&](int i) {
+    return _mm_load_ps(reinterpret_cast<const float*>(vertices + triangles[std::min(i, last)][corner]));
+  };
+  // Rows: lanes (i, i + 4) of each register hold vertices i and i + 4.
+  const __m256 v0 = _mm256_set_m128(vertex(4), vertex(0)), v1 = _mm256_set_m128(vertex(5), vertex(1));
+  const __m256 v2 = _mm256_set_m128(vertex(6), vertex(2)), v3 = _mm256_set_m128(vertex(7), vertex(3));
+  const __m256 low01 = _mm256_unpacklo_ps(v0, v1), low23 = _mm256_unpacklo_ps(v2, v3);  // x0 x1 y0 y1 | ...
+  const __m256 high01 = _mm256_unpackhi_ps(v0, v1), high23 = _mm256_unpackhi_ps(v2, v3);  // z0 z1 - - | ...
+  _mm256_store_ps(reinterpret_cast<float*>(x), _mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(1, 0, 1, 0)));
+  _mm256_store_ps(reinterpret_cast<float*>(y), _mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(3, 2, 3, 2)));
+  _mm256_store_ps(z, _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(1, 0, 1, 0)));
+}
+
+void GatherCorners(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int count, int32_t* ax, int32_t* ay,
+                   float* az, int32_t* bx, int32_t* by, float* bz, int32_t* cx, int32_t* cy, float* cz) {
+  auto gather = [&](int last) {
+    GatherCorner(vertices, triangles, last, 0, ax, ay, az);
+    GatherCorner(vertices, triangles, last, 1, bx, by, bz);
+    GatherCorner(vertices, triangles, last, 2, cx, cy, cz);
+  };
+  if (count == 8) {
+    gather(7);  // a constant: no clamping of the lane index
+  } else {
+    gather(count - 1);
+  }
+}
+
+}  // namespace
+#endif
+
 // Eight triangles at a time: their culling, clipping and edge setup are
 // branch-free loops over the lanes, which the compiler vectorizes (AVX2);
 // the survivors are then filled in order, large triangles by DrawOne.
@@ -441,11 +478,15 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
     // Lanes past the end repeat the last triangle and are never drawn.
+#if defined(GAZEDIRECTOR_AVX2)
+    GatherCorners(vertices, triangles + first, count, ax, ay, az, bx, by, bz, cx, cy, cz);
+#else
     for (int i = 0; i < kLanes; ++i) {
       const Eigen::Vector3i& t = triangles[first + std::min(i, count - 1)];
       const ScreenVertex &a = vertices[t[0]], &b = vertices[t[1]], &c = vertices[t[2]];
       ax[i] = a.x, ay[i] = a.y, az[i] = a.z, bx[i] = b.x, by[i] = b.y, bz[i] = b.z, cx[i] = c.x, cy[i] = c.y, cz[i] = c.z;
     }
+#endif
     for (int i = 0; i < kLanes; ++i) {
       const int32_t min_x = std::min(ax[i], std::min(bx[i], cx[i])), max_x = std::max(ax[i], std::max(bx[i], cx[i]));
       const int32_t min_y = std::min(ay[i], std::min(by[i], cy[i])), max_y = std::max(ay[i], std::max(by[i], cy[i]));
@@ -556,10 +597,10 @@ constexpr const auto& kEveryThird = kEveryThirdTable.indices;
 // one. Large triangles (rare) take the scalar path.
 void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
                                    int32_t id_offset, const Eigen::Vector4i& clip) {
-  static_assert(sizeof(ScreenVertex) == 12 && sizeof(Eigen::Vector3i) == 12);
+  static_assert(sizeof(ScreenVertex) == 16 && sizeof(Eigen::Vector3i) == 12);
   const int* triangle_ints = reinterpret_cast<const int*>(triangles);
   const int* vertex_ints = reinterpret_cast<const int*>(vertices);
-  const __m512i three = _mm512_set1_epi32(3), zero = _mm512_setzero_si512();
+  const __m512i stride = _mm512_set1_epi32(sizeof(ScreenVertex) / 4), zero = _mm512_setzero_si512();
   const __m512i left = _mm512_set1_epi32(clip[0] * kOne), top = _mm512_set1_epi32(clip[1] * kOne);
   const __m512i right = _mm512_set1_epi32(clip[2] * kOne), bottom = _mm512_set1_epi32(clip[3] * kOne);
   const __m512i clip_x0 = _mm512_set1_epi32(clip[0]), clip_y0 = _mm512_set1_epi32(clip[1]);
@@ -582,7 +623,7 @@ void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Ve
     const __m512i first16 = load(0), second16 = load(1), third16 = load(2);
     auto corner = [&](int k) {
       const __m512i early = _mm512_permutex2var_epi32(first16, _mm512_load_si512(kEveryThird[k][0]), second16);
-      return _mm512_mullo_epi32(_mm512_permutex2var_epi32(early, _mm512_load_si512(kEveryThird[k][1]), third16), three);
+      return _mm512_mullo_epi32(_mm512_permutex2var_epi32(early, _mm512_load_si512(kEveryThird[k][1]), third16), stride);
     };
     const __m512i ia = corner(0), ib = corner(1), ic = corner(2);
     const __m512i one = _mm512_set1_epi32(1), two = _mm512_set1_epi32(2);

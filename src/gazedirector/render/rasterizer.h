@@ -14,10 +14,12 @@ namespace gazedirector {
 inline constexpr int kSubpixelBits = 4;
 
 // A vertex on screen, snapped: x and y in 1/16 pixels (pixel centres at
-// multiples of 16), z the depth in millimetres.
-struct ScreenVertex {
+// multiples of 16), z the depth in millimetres. Padded to 16 bytes, so that
+// one aligned vector load reads a vertex.
+struct alignas(16) ScreenVertex {
   int32_t x, y;
   float z;
+  int32_t unused = 0;
 };
 
 // Snaps pixel coordinates (pixel centres at integers) and a depth. Vertices
@@ -26,7 +28,7 @@ inline ScreenVertex SnapVertex(float x, float y, float z) {
   constexpr float kScale = 1 << kSubpixelBits, kClamp = 65536.0f;
   const float sx = std::clamp(x, -kClamp, kClamp) * kScale, sy = std::clamp(y, -kClamp, kClamp) * kScale;
   // Round half away from zero, the same on every machine.
-  return {static_cast<int32_t>(sx + (sx >= 0 ? 0.5f : -0.5f)), static_cast<int32_t>(sy + (sy >= 0 ? 0.5f : -0.5f)), z};
+  return {static_cast<int32_t>(sx + (sx >= 0 ? 0.5f : -0.5f)), static_cast<int32_t>(sy + (sy >= 0 ? 0.5f : -0.5f)), z, 0};
 }
 
 // What each pixel sees: the nearest triangle (an id the caller chose, -1 for
