@@ -446,18 +446,15 @@ namespace {
   _mm256_store_ps(z, _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(1, 0, 1, 0)));
 }
 
-void GatherCorners(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int count, int32_t* ax, int32_t* ay,
-                   float* az, int32_t* bx, int32_t* by, float* bz, int32_t* cx, int32_t* cy, float* cz) {
-  auto gather = [&](int last) {
-    GatherCorner(vertices, triangles, last, 0, ax, ay, az);
-    GatherCorner(vertices, triangles, last, 1, bx, by, bz);
-    GatherCorner(vertices, triangles, last, 2, cx, cy, cz);
-  };
-  if (count == 8) {
-    gather(7);  // a constant: no clamping of the lane index
-  } else {
-    gather(count - 1);
-  }
+// A full batch (kFull) needs no clamping of the lane index.
+template <bool kFull>
+[[gnu::always_inline]] inline void GatherCorners(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
+                                                 int count, int32_t* ax, int32_t* ay, float* az, int32_t* bx,
+                                                 int32_t* by, float* bz, int32_t* cx, int32_t* cy, float* cz) {
+  const int last = kFull ? 7 : count - 1;
+  GatherCorner(vertices, triangles, last, 0, ax, ay, az);
+  GatherCorner(vertices, triangles, last, 1, bx, by, bz);
+  GatherCorner(vertices, triangles, last, 2, cx, cy, cz);
 }
 
 }  // namespace
@@ -479,7 +476,11 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
     const int count = std::min(kLanes, num_triangles - first);
     // Lanes past the end repeat the last triangle and are never drawn.
 #if defined(GAZEDIRECTOR_AVX2)
-    GatherCorners(vertices, triangles + first, count, ax, ay, az, bx, by, bz, cx, cy, cz);
+    if (count == kLanes) {
+      GatherCorners<true>(vertices, triangles + first, count, ax, ay, az, bx, by, bz, cx, cy, cz);
+    } else {
+      GatherCorners<false>(vertices, triangles + first, count, ax, ay, az, bx, by, bz, cx, cy, cz);
+    }
 #else
     for (int i = 0; i < kLanes; ++i) {
       const Eigen::Vector3i& t = triangles[first + std::min(i, count - 1)];
