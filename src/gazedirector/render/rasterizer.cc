@@ -430,7 +430,7 @@ void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i*
 namespace {
 
 // One corner of eight triangles: each vertex read by one vector load, the
-// eight transposed into x, y and z (lanes past `count` repeat the last).
+// eight transposed into x, y and z (lanes past `last` repeat that one).
 [[gnu::always_inline]] inline void GatherCorner(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
                                                 int last, int corner, int32_t* x, int32_t* y, float* z) {
   auto vertex = [&](int i) {
@@ -462,7 +462,8 @@ template <bool kFull>
 
 // Eight triangles at a time: their culling, clipping and edge setup are
 // branch-free loops over the lanes, which the compiler vectorizes (AVX2);
-// the survivors are then filled in order, large triangles by DrawOne.
+// the survivors are then filled: with AVX2 the small ones together by
+// FillStamps, the rest one by one in order, large triangles by DrawOne.
 void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
                                            int num_triangles, int32_t id_offset, const Eigen::Vector4i& clip) {
   constexpr int kLanes = 8;
