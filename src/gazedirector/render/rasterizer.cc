@@ -471,7 +471,10 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   const int32_t clip_x0 = clip[0], clip_y0 = clip[1], clip_x1 = clip[2], clip_y1 = clip[3];
   alignas(32) int32_t ax[kLanes], ay[kLanes], bx[kLanes], by[kLanes], cx[kLanes], cy[kLanes];
   alignas(32) float az[kLanes], bz[kLanes], cz[kLanes];
-  alignas(32) int32_t fill[kLanes], large[kLanes], stamp[kLanes];  // 0 or 1
+  alignas(32) int32_t fill[kLanes], large[kLanes];  // 0 or 1
+#if defined(GAZEDIRECTOR_AVX2)
+  alignas(32) int32_t stamp[kLanes];  // 0 or 1: filled by FillStamps
+#endif
   PreparedBatch p;
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
@@ -501,7 +504,9 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
       const int32_t y0 = std::max(clip_y0, CeilPixel(min_y)), y1 = std::min(clip_y1, FloorPixel(max_y));
       fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
       large[i] = on_window & !small;
+#if defined(GAZEDIRECTOR_AVX2)
       stamp[i] = fill[i] & (x1 - x0 < kStampSize) & (y1 - y0 < kStampSize);
+#endif
       const int32_t px = x0 * kOne, py = y0 * kOne;
       p.bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
       p.bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
