@@ -152,13 +152,13 @@ namespace {
 // A triangle's interpolation eight pixels at a time, from the lanes' edge
 // values: the same arithmetic as FillRows' scalar loop, so bit for bit equal.
 struct LaneInterpolation {
+  // One triangle in every lane.
   LaneInterpolation(int32_t bias1, int32_t bias2, float inverse_area, float z0, float dz1, float dz2)
-      : unbias1(_mm256_set1_epi32(bias1)),
-        unbias2(_mm256_set1_epi32(bias2)),
-        inverse(_mm256_set1_ps(inverse_area)),
-        z0(_mm256_set1_ps(z0)),
-        dz1(_mm256_set1_ps(dz1)),
-        dz2(_mm256_set1_ps(dz2)) {}
+      : LaneInterpolation(_mm256_set1_epi32(bias1), _mm256_set1_epi32(bias2), _mm256_set1_ps(inverse_area),
+                          _mm256_set1_ps(z0), _mm256_set1_ps(dz1), _mm256_set1_ps(dz2)) {}
+  // A triangle per lane (FillStamps).
+  LaneInterpolation(__m256i bias1, __m256i bias2, __m256 inverse_area, __m256 z0, __m256 dz1, __m256 dz2)
+      : unbias1(bias1), unbias2(bias2), inverse(inverse_area), z0(z0), dz1(dz1), dz2(dz2) {}
 
   // All ones where the pixel centre is inside (every edge value >= 0).
   static __m256i Inside(__m256i w0, __m256i w1, __m256i w2) {
@@ -308,21 +308,26 @@ void BlendRows(float* lo, float* hi, __m256 values, __m256 mask) {
 #endif
 
 #if defined(GAZEDIRECTOR_AVX2)
-// Up to eight small triangles of a batch at once, one per lane: each step
-// tests the pixel at the same offset in every lane's box. A triangle of a few
-// pixels leaves most of a row-wise fill's lanes idle; here the lanes are
-// triangles, so they stay busy. The pixels found inside are written one by
-// one, each with its own depth test, so two triangles of the batch may cover
-// the same pixel. The arithmetic is FillRows', so the values are bit for bit
-// the same; the order of the writes differs from one triangle after another,
-// which matters only where two triangles reach a pixel centre at exactly the
-// same depth.
-void VisibilityBuffer::FillStamps(const PreparedBatch& p, unsigned lanes, int32_t first_id) {
-  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  const __m256i active = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(lanes)), lane_bit), lane_bit);
+// The batch's small triangles among `lanes` (boxes up to kStampSize pixels
+// wide and high), eight at once, one per lane: each step tests the pixel at
+// the same offset in every lane's box. A triangle of a few pixels leaves most
+// of a row-wise fill's lanes idle; here the lanes are triangles, so they stay
+// busy. The pixels found inside are written one by one, each with its own
+// depth test, so two triangles of the batch may cover the same pixel. The
+// arithmetic is FillRows', so the values are bit for bit the same; the order
+// of the writes differs from one triangle after another, which matters only
+// where two triangles reach a pixel centre at exactly the same depth. Returns
+// the lanes it filled.
+unsigned VisibilityBuffer::FillStamps(const PreparedBatch& p, unsigned lanes, int32_t first_id) {
   auto load = [](const int32_t* field) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(field)); };
   const __m256i x0 = load(p.x0), y0 = load(p.y0);
   const __m256i columns = _mm256_sub_epi32(load(p.x1), x0), rows = _mm256_sub_epi32(load(p.y1), y0);  // box size - 1
+  const __m256i too_big = _mm256_or_si256(_mm256_cmpgt_epi32(columns, _mm256_set1_epi32(kStampSize - 1)),
+                                          _mm256_cmpgt_epi32(rows, _mm256_set1_epi32(kStampSize - 1)));
+  lanes &= ~static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(too_big)));
+  if (lanes == 0) return 0;
+  const __m256i lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  const __m256i active = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(lanes)), lane_bit), lane_bit);
   // The largest box among the active lanes (each at least 0 wide and high).
   auto largest = [&](__m256i sizes) {
     __m128i m = _mm_max_epi32(_mm256_castsi256_si128(sizes), _mm256_extracti128_si256(sizes, 1));
@@ -333,9 +338,8 @@ void VisibilityBuffer::FillStamps(const PreparedBatch& p, unsigned lanes, int32_
   const __m256i first_pixel = _mm256_add_epi32(_mm256_mullo_epi32(y0, _mm256_set1_epi32(width_)), x0);
   const __m256i step_x0 = load(p.step_x0), step_x1 = load(p.step_x1), step_x2 = load(p.step_x2);
   const __m256i step_y0 = load(p.step_y0), step_y1 = load(p.step_y1), step_y2 = load(p.step_y2);
-  const __m256i unbias1 = load(p.bias1), unbias2 = load(p.bias2);
-  const __m256 inverse = _mm256_load_ps(p.inverse_area), z0 = _mm256_load_ps(p.z0);
-  const __m256 dz1 = _mm256_load_ps(p.dz1), dz2 = _mm256_load_ps(p.dz2);
+  const LaneInterpolation lerp(load(p.bias1), load(p.bias2), _mm256_load_ps(p.inverse_area), _mm256_load_ps(p.z0),
+                               _mm256_load_ps(p.dz1), _mm256_load_ps(p.dz2));
   alignas(32) float depths[8], b1s[8], b2s[8];
   alignas(32) int32_t pixels[8];
   float* const depth = depth_.data();
@@ -349,13 +353,11 @@ void VisibilityBuffer::FillStamps(const PreparedBatch& p, unsigned lanes, int32_
     __m256i w0 = row0, w1 = row1, w2 = row2;
     for (int dx = 0; dx <= max_columns; ++dx) {
       const __m256i valid = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dx), columns), valid_row);
-      const __m256i inside = _mm256_and_si256(valid, _mm256_cmpgt_epi32(_mm256_or_si256(_mm256_or_si256(w0, w1), w2),
-                                                                         _mm256_set1_epi32(-1)));
+      const __m256i inside = _mm256_and_si256(valid, LaneInterpolation::Inside(w0, w1, w2));
       unsigned hits = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside)));
       if (hits != 0) {
-        const __m256 b1 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w1, unbias1)), inverse);
-        const __m256 b2 = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(w2, unbias2)), inverse);
-        _mm256_store_ps(depths, _mm256_add_ps(_mm256_add_ps(z0, _mm256_mul_ps(b1, dz1)), _mm256_mul_ps(b2, dz2)));
+        const __m256 b1 = lerp.B1(w1), b2 = lerp.B2(w2);
+        _mm256_store_ps(depths, lerp.Depth(b1, b2));
         _mm256_store_ps(b1s, b1);
         _mm256_store_ps(b2s, b2);
         _mm256_store_si256(reinterpret_cast<__m256i*>(pixels),
@@ -372,6 +374,7 @@ void VisibilityBuffer::FillStamps(const PreparedBatch& p, unsigned lanes, int32_
     }
     row0 = _mm256_add_epi32(row0, step_y0), row1 = _mm256_add_epi32(row1, step_y1), row2 = _mm256_add_epi32(row2, step_y2);
   }
+  return lanes;
 }
 #endif
 
@@ -472,9 +475,6 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   alignas(32) int32_t ax[kLanes], ay[kLanes], bx[kLanes], by[kLanes], cx[kLanes], cy[kLanes];
   alignas(32) float az[kLanes], bz[kLanes], cz[kLanes];
   alignas(32) int32_t fill[kLanes], large[kLanes];  // 0 or 1
-#if defined(GAZEDIRECTOR_AVX2)
-  alignas(32) int32_t stamp[kLanes];  // 0 or 1: filled by FillStamps
-#endif
   PreparedBatch p;
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
@@ -504,9 +504,6 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
       const int32_t y0 = std::max(clip_y0, CeilPixel(min_y)), y1 = std::min(clip_y1, FloorPixel(max_y));
       fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
       large[i] = on_window & !small;
-#if defined(GAZEDIRECTOR_AVX2)
-      stamp[i] = fill[i] & (x1 - x0 < kStampSize) & (y1 - y0 < kStampSize);
-#endif
       const int32_t px = x0 * kOne, py = y0 * kOne;
       p.bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
       p.bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
@@ -522,12 +519,11 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
     // The lanes to draw as bits, walked in order (a branch per lane mispredicts).
     const unsigned fill_bits = LaneBits(fill), large_bits = LaneBits(large);
     const unsigned in_batch = (1u << count) - 1;
-    unsigned stamp_bits = 0;
+    unsigned todo = (fill_bits | large_bits) & in_batch;
 #if defined(GAZEDIRECTOR_AVX2)
-    stamp_bits = LaneBits(stamp) & in_batch;
-    if (stamp_bits != 0) FillStamps(p, stamp_bits, id_offset + first);
+    todo &= ~FillStamps(p, fill_bits & in_batch, id_offset + first);
 #endif
-    for (unsigned todo = (fill_bits | large_bits) & in_batch & ~stamp_bits; todo != 0; todo &= todo - 1) {
+    for (; todo != 0; todo &= todo - 1) {
       const int lane = __builtin_ctz(todo);
       const int32_t id = id_offset + first + lane;
       if (large_bits >> lane & 1) {

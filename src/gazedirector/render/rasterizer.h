@@ -28,7 +28,7 @@ inline ScreenVertex SnapVertex(float x, float y, float z) {
   constexpr float kScale = 1 << kSubpixelBits, kClamp = 65536.0f;
   const float sx = std::clamp(x, -kClamp, kClamp) * kScale, sy = std::clamp(y, -kClamp, kClamp) * kScale;
   // Round half away from zero, the same on every machine.
-  return {static_cast<int32_t>(sx + (sx >= 0 ? 0.5f : -0.5f)), static_cast<int32_t>(sy + (sy >= 0 ? 0.5f : -0.5f)), z, 0};
+  return {static_cast<int32_t>(sx + (sx >= 0 ? 0.5f : -0.5f)), static_cast<int32_t>(sy + (sy >= 0 ? 0.5f : -0.5f)), z};
 }
 
 // What each pixel sees: the nearest triangle (an id the caller chose, -1 for
@@ -91,7 +91,7 @@ class VisibilityBuffer {
   void FillRows(const PreparedBatch& batch, int lane, int32_t id);
   void FillRowsVectorized(const PreparedBatch& batch, int lane, int32_t id);
   void FillRowPairs(const PreparedBatch& batch, int lane, int32_t id);
-  void FillStamps(const PreparedBatch& batch, unsigned lanes, int32_t first_id);
+  unsigned FillStamps(const PreparedBatch& batch, unsigned lanes, int32_t first_id);
   void FillLarge(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, int64_t area, int x0, int x1,
                  int y0, int y1, int32_t id);
 
