@@ -56,7 +56,7 @@ TEST(ColumbiaTest, LabelsAreRelativeToTheCameraAndTurnedByTheHeadInItsFrame) {
 // What the labels mean, checked on the photos: subjects looking into the lens
 // from +-30 degrees around the head have their eyes turned in the head toward
 // the camera (the sign of Label(kHead)), not straight ahead. The fits read
-// about half the turn (the README's "Known gaps"), but its direction in 65 of
+// about half the turn (docs/known-gaps.md), but its direction in 65 of
 // the 68 0H crops at +-30 of every 4th photo; here two subjects' eight.
 TEST(ColumbiaTest, EyesLookingIntoALensAroundTheHeadAreTurnedInTheHead) {
   std::vector<ColumbiaCrop> crops;
