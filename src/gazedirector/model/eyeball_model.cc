@@ -33,7 +33,74 @@ std::vector<int> MirrorVertices(const Eigen::Matrix3Xd& positions, const Eigen::
   return mirrored;
 }
 
+// Cells per side of each cube face that patches the eyeball: the front face's
+// 4 x 4 cells hold 7-83 triangles each.
+constexpr int kPatchCells = 4;
+// Patches are culled as facing away only beyond this angle (about 3 degrees)
+// past the silhouette: snapping to the subpixel grid can turn a triangle
+// seen edge-on.
+constexpr double kFacingMargin = 0.05;
+
+// Orders `triangles` by the cube map cell of their centroids' directions and
+// returns the patches, each with its bounds.
+std::vector<EyeballPatch> SortIntoPatches(const Eigen::Matrix3Xd& positions, std::vector<Eigen::Vector3i>& triangles) {
+  auto centroid = [&](const Eigen::Vector3i& t) {
+    return Eigen::Vector3d((positions.col(t[0]) + positions.col(t[1]) + positions.col(t[2])) / 3.0);
+  };
+  auto cell = [&](const Eigen::Vector3i& t) {
+    const Eigen::Vector3d g = centroid(t);
+    Eigen::Index axis;
+    g.cwiseAbs().maxCoeff(&axis);
+    int key = 2 * static_cast<int>(axis) + (g[axis] > 0);
+    for (int k = 0; k < 3; ++k) {
+      if (k == axis) continue;
+      const double along = (g[k] / std::abs(g[axis]) + 1) / 2;  // [0, 1] across the face
+      key = key * kPatchCells + std::clamp(static_cast<int>(along * kPatchCells), 0, kPatchCells - 1);
+    }
+    return key;
+  };
+  std::stable_sort(triangles.begin(), triangles.end(),
+                   [&](const Eigen::Vector3i& a, const Eigen::Vector3i& b) { return cell(a) < cell(b); });
+  std::vector<EyeballPatch> patches;
+  for (int begin = 0; begin < static_cast<int>(triangles.size());) {
+    int end = begin;
+    while (end < static_cast<int>(triangles.size()) && cell(triangles[end]) == cell(triangles[begin])) ++end;
+    EyeballPatch patch;
+    patch.begin = begin, patch.end = end;
+    Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+    for (int i = begin; i < end; ++i) {
+      const Eigen::Vector3i& t = triangles[i];
+      for (int k = 0; k < 3; ++k) patch.centre += positions.col(t[k]) / (3.0 * (end - begin));
+      normal_sum += (positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0])).normalized();
+    }
+    patch.axis = normal_sum.normalized();
+    double widest_cosine = 1, radius_squared = 0;
+    for (int i = begin; i < end; ++i) {
+      const Eigen::Vector3i& t = triangles[i];
+      for (int k = 0; k < 3; ++k) radius_squared = std::max(radius_squared, (positions.col(t[k]) - patch.centre).squaredNorm());
+      const Eigen::Vector3d n =
+          (positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0])).normalized();
+      widest_cosine = std::min(widest_cosine, n.dot(patch.axis));
+    }
+    patch.radius = std::sqrt(radius_squared);
+    patch.cone_sine = widest_cosine > 0 ? std::sqrt(1 - widest_cosine * widest_cosine) : 2.0;
+    patches.push_back(patch);
+    begin = end;
+  }
+  return patches;
+}
+
 }  // namespace
+
+bool EyeballPatch::FacesAwayFrom(const Eigen::Vector3d& camera) const {
+  // Every point p of the ball sees the camera from behind every normal n of
+  // the cone when the angle between the axis and p - camera stays below
+  // 90 degrees less the cone's: a.(c - camera) - r > sin(cone) |c - camera| + r.
+  const double sine = cone_sine + kFacingMargin;
+  if (sine >= 1) return false;
+  const Eigen::Vector3d view = centre - camera;
+  return axis.dot(view) - radius > sine * (view.norm() + radius);
+}
 
 int OrientTriangles(const Eigen::Matrix3Xd& positions, std::vector<Eigen::Vector3i>& triangles,
                     const Eigen::Vector3d& outward_hint, bool radial) {
@@ -85,6 +152,7 @@ EyeballModel EyeballModel::Load(const std::filesystem::path& obj) {
   }
   model.triangles_ = mesh.triangles;
   OrientTriangles(model.positions_, model.triangles_, Eigen::Vector3d::Zero(), /*radial=*/true);
+  model.patches_ = SortIntoPatches(model.positions_, model.triangles_);
   VertexNormals(model.positions_, model.triangles_, model.normals_);
 
   model.is_cornea_.assign(n, false);

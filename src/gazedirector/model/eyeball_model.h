@@ -10,6 +10,21 @@ namespace gazedirector {
 // The two-sphere eyeball mesh (sclera sphere of 12.05 mm and corneal bulge),
 // in millimetres, centred at the origin and looking along -y, in the same
 // model frame as the eye region (+x toward the outer corner, +z up).
+// A patch of the eyeball's surface, for culling its triangles together: the
+// triangles [begin, end) of EyeballModel::triangles(), a ball that holds them
+// and the cone that holds their outward face normals (eyeball frame, mm).
+struct EyeballPatch {
+  int begin = 0, end = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0;
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // unit
+  double cone_sine = 2;  // sine of the widest normal's angle from `axis`; above 1 when one reaches 90 degrees
+
+  // Whether every triangle faces away from a camera at `camera` (eyeball
+  // frame), with a margin against the rounding of screen coordinates.
+  bool FacesAwayFrom(const Eigen::Vector3d& camera) const;
+};
+
 class EyeballModel {
  public:
   static EyeballModel Load(const std::filesystem::path& obj);
@@ -19,7 +34,11 @@ class EyeballModel {
   const Eigen::Matrix3Xd& normals() const { return normals_; }
   const Eigen::Matrix2Xd& uvs() const { return uvs_; }
   // Outward-facing, counter-clockwise seen from outside.
+  // Ordered patch by patch.
   const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+  // The surface in patches of neighbouring triangles (a cube map's cells),
+  // so that a renderer can skip those facing away or outside the eye opening.
+  const std::vector<EyeballPatch>& patches() const { return patches_; }
   // Vertices of the cornea (in front of and inside the limbus), which show
   // the iris through refraction.
   const std::vector<int>& cornea() const { return cornea_; }
@@ -58,6 +77,7 @@ class EyeballModel {
   Eigen::Matrix2Xd uvs_;
   Eigen::Matrix2Xd angles_;
   std::vector<Eigen::Vector3i> triangles_;
+  std::vector<EyeballPatch> patches_;
   std::vector<int> cornea_;
   // The cornea's positions and normals, one coordinate per column, padded to
   // whole lanes by repeating the last vertex.

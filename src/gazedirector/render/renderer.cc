@@ -24,6 +24,22 @@ float Occlusion(float distance, float strength, float width) {
   return 1.0f - strength * t * t;
 }
 
+// Whether a ball (camera frame, mm) may cover pixel centres of `window`
+// (pixels, inclusive): its projection lies within the range of x / z and
+// y / z over the ball's bounding box, widened by a pixel for snapping.
+bool MayReach(const Camera& camera, const Eigen::Vector3d& centre, double radius, const Eigen::Vector4i& window) {
+  const double nearest = centre.z() - radius, farthest = centre.z() + radius;
+  if (nearest <= 1.0) return true;
+  auto reaches = [&](double middle, double focal, double principal, int low, int high) {
+    const double from = middle - radius, to = middle + radius;
+    const double first = focal * from / (from < 0 ? nearest : farthest) + principal;
+    const double last = focal * to / (to > 0 ? nearest : farthest) + principal;
+    return last + 1 >= low && first - 1 <= high;
+  };
+  return reaches(centre.x(), camera.fx, camera.cx, window[0], window[2]) &&
+         reaches(centre.y(), camera.fy, camera.cy, window[1], window[3]);
+}
+
 }  // namespace
 
 cv::Mat RenderBuffers::ColourImage(const cv::Mat& background) const {
@@ -106,10 +122,37 @@ void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) {
     }
     window = Eigen::Vector4i((window[0] >> kSubpixelBits) - 1, (window[1] >> kSubpixelBits) - 1,
                              (window[2] >> kSubpixelBits) + 2, (window[3] >> kSubpixelBits) + 2);
-    out.visibility.Draw(screen_.data(), triangles + first, count, first, window);
+    DrawEyeball(EyeOfPart(part), camera, triangles + first, first, window, out);
   }
   out.part_offsets[kNumParts] = model_->triangle_offset(kNumParts);
   out.visibility.CollectCovered(out.foreground);
+}
+
+// Draws the eyeball's patches that face the camera and may reach the window,
+// consecutive patches in one call: most of the eyeball's triangles face away
+// or lie behind the skin around the opening, and are never set up.
+void Renderer::DrawEyeball(int eye, const Camera& camera, const Eigen::Vector3i* triangles, int32_t first,
+                           const Eigen::Vector4i& window, RenderBuffers& out) const {
+  const PosedEye& posed = posed_.eyes[eye];
+  const Eigen::Vector3d camera_in_eyeball = -(posed.eyeball_to_camera.transpose() * posed.centre);
+  int run_begin = 0, run_end = 0;
+  auto draw_run = [&] {
+    if (run_end > run_begin) {
+      out.visibility.Draw(screen_.data(), triangles + run_begin, run_end - run_begin, first + run_begin, window);
+    }
+  };
+  for (const EyeballPatch& patch : model_->eyeball().patches()) {
+    if (eyeball_culling_ && (patch.FacesAwayFrom(camera_in_eyeball) ||
+                             !MayReach(camera, posed.eyeball_to_camera * patch.centre + posed.centre, patch.radius, window))) {
+      continue;
+    }
+    if (patch.begin != run_end) {
+      draw_run();
+      run_begin = patch.begin;
+    }
+    run_end = patch.end;
+  }
+  draw_run();
 }
 
 void Renderer::ComposeSkinTexture(const Parameters& phi) {

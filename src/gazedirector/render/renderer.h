@@ -89,11 +89,17 @@ class Renderer {
   // fitted to a crop of one eye.
   void set_eyes(bool left, bool right) { eyes_ = {left, right}; }
 
+  // Off, every eyeball triangle is drawn, not only the patches that face the
+  // camera and reach the eye opening (for tests: the buffers are the same).
+  void set_eyeball_culling(bool on) { eyeball_culling_ = on; }
+
   const PosedModel& posed() const { return posed_; }
   const EyeRegionModel& model() const { return *model_; }
   EyeballShading& eyeball_shading() { return eyeball_shading_; }
 
  private:
+  void DrawEyeball(int eye, const Camera& camera, const Eigen::Vector3i* triangles, int32_t first,
+                   const Eigen::Vector4i& window, RenderBuffers& out) const;
   void ComposeSkinTexture(const Parameters& phi);
   struct ShadingInputs;
   void MixLookingDown(ShadingInputs& in);
@@ -121,6 +127,7 @@ class Renderer {
   float mixed_blend_ = 0;
   EyeballShading eyeball_shading_;
   std::array<bool, 2> eyes_ = {true, true};
+  bool eyeball_culling_ = true;
 };
 
 }  // namespace gazedirector

@@ -75,6 +75,39 @@ TEST(RendererTest, RendersAreDeterministicBitForBit) {
   EXPECT_TRUE((a.colour.array() == c.colour.array()).all());
 }
 
+// Culling the eyeball's patches skips only triangles that would not have
+// shown: the buffers match drawing them all, over gazes, head turns, lids and
+// distances (near enough for perspective to matter).
+TEST(RendererTest, CullingEyeballPatchesChangesNoPixel) {
+  Renderer culling(Model()), drawing_all(Model());
+  drawing_all.set_eyeball_culling(false);
+  RenderBuffers culled, all;
+  int renders = 0;
+  for (double distance : {390.0, 150.0}) {
+    for (double head_yaw : {-30.0, 0.0, 25.0}) {
+      for (double gaze_pitch : {-35.0, 0.0, 25.0}) {
+        for (double gaze_yaw : {-45.0, -10.0, 30.0}) {
+          Parameters phi = Framed();
+          phi.block<Block::kTranslation>() = Eigen::Vector3d(head_yaw / 3, 5, distance);
+          phi.block<Block::kRotation>() = Eigen::Vector3d(10, head_yaw, 0);
+          phi.gaze_pitch() = gaze_pitch;
+          phi.gaze_yaw() = gaze_yaw;
+          phi.eyelid_pitch() = gaze_pitch / 2;
+          culling.Render(phi, kCamera, culled);
+          drawing_all.Render(phi, kCamera, all);
+          ASSERT_EQ(culled.foreground, all.foreground) << "render " << renders;
+          for (int pixel : all.foreground) {
+            ASSERT_EQ(culled.visibility.triangle(pixel), all.visibility.triangle(pixel)) << "render " << renders;
+            ASSERT_EQ(culled.visibility.depth(pixel), all.visibility.depth(pixel));
+          }
+          ++renders;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(renders, 54);
+}
+
 TEST(RendererTest, MaskAndPartIdsAgreeAndShowFourParts) {
   Renderer renderer(Model());
   RenderBuffers buffers;
