@@ -164,6 +164,8 @@ std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets)
   model->triangles_[kLeftEyeball] = model->eyeball_.triangles();
   model->triangles_[kRightEyeball] = Rewound(model->eyeball_.triangles());
   model->eyeball_angles_ = model->eyeball_.angles().cast<float>();
+  model->eyeball_positions_ = model->eyeball_.positions().cast<float>();
+  model->eyeball_normals_ = model->eyeball_.normals().cast<float>();
   for (int part = 0; part < kNumParts; ++part) {
     model->vertex_offsets_[part + 1] = model->vertex_offsets_[part] + model->num_vertices(part);
     model->triangle_offsets_[part + 1] = model->triangle_offsets_[part] + static_cast<int>(model->triangles_[part].size());
@@ -244,13 +246,11 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     const Eigen::Matrix3d eyeball_to_camera = rotation * gaze_head * model_to_head;
     PosedPart& ball = posed.parts[EyeballPart(eye)];
     const int balls = eyeball_.num_vertices();
-    ball.positions.resize(3, balls);
-    ball.normals.resize(3, balls);
     ball.uvs.resize(2, balls);
-    for (int i = 0; i < balls; ++i) {
-      ball.positions.col(i) = (eyeball_to_camera * eyeball_.positions().col(i) + eyeball_origin).cast<float>();
-      ball.normals.col(i) = (eyeball_to_camera * eyeball_.normals().col(i)).cast<float>();
-    }
+    const Eigen::Matrix3f eyeball_to_camera_f = eyeball_to_camera.cast<float>();
+    ball.positions.noalias() = eyeball_to_camera_f * eyeball_positions_;
+    ball.positions.colwise() += eyeball_origin.cast<float>();
+    ball.normals.noalias() = eyeball_to_camera_f * eyeball_normals_;
     // Texture coordinates: the sclera's depend only on the iris size (kept
     // from the last pose when it has not changed), the cornea's on the view.
     const double iris_size = phi.iris_size();

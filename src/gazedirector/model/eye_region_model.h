@@ -141,6 +141,7 @@ class EyeRegionModel {
   std::vector<Eigen::Vector3i> base_triangles_;  // the coarse facial mesh, for its normals
   std::vector<int> opening_rim_;
   Eigen::Matrix2Xf eyeball_angles_;
+  Eigen::Matrix3Xf eyeball_positions_, eyeball_normals_;  // the eyeball's, in floats for posing
   std::array<int, kNumParts + 1> vertex_offsets_{};
   std::array<int, kNumParts + 1> triangle_offsets_{};
   std::vector<Eigen::Vector3i> all_triangles_;

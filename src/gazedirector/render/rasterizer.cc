@@ -109,6 +109,45 @@ struct VisibilityBuffer::PreparedBatch {
   }
 };
 
+void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, float cy, ScreenVertex* out) {
+  int i = 0;
+#if defined(GAZEDIRECTOR_AVX512) || defined(GAZEDIRECTOR_AVX2)
+  // SnapVertex's arithmetic in the same order, so bit for bit the same.
+  const __m256 scale = _mm256_set1_ps(1 << kSubpixelBits), low = _mm256_set1_ps(-65536.0f), high = _mm256_set1_ps(65536.0f);
+  const __m256 half = _mm256_set1_ps(0.5f), minus_half = _mm256_set1_ps(-0.5f), zero = _mm256_setzero_ps();
+  auto snap = [&](__m256 pixels) {
+    const __m256 s = _mm256_mul_ps(_mm256_min_ps(_mm256_max_ps(pixels, low), high), scale);
+    return _mm256_cvttps_epi32(_mm256_add_ps(s, _mm256_blendv_ps(minus_half, half, _mm256_cmp_ps(s, zero, _CMP_GE_OQ))));
+  };
+  const __m256i every_third = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+  for (; i + 8 <= count; i += 8) {
+    const float* p = xyz + 3 * i;
+    const __m256 x = _mm256_i32gather_ps(p, every_third, 4), y = _mm256_i32gather_ps(p + 1, every_third, 4);
+    const __m256 z = _mm256_i32gather_ps(p + 2, every_third, 4);
+    const __m256 inverse_z = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
+    const __m256 sx = _mm256_castsi256_ps(snap(_mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(fx), x), inverse_z), _mm256_set1_ps(cx))));
+    const __m256 sy = _mm256_castsi256_ps(snap(_mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(fy), y), inverse_z), _mm256_set1_ps(cy))));
+    // Transpose (x, y, z, 0) of eight vertices into their 16-byte slots.
+    const __m256 xy_low = _mm256_unpacklo_ps(sx, sy), xy_high = _mm256_unpackhi_ps(sx, sy);  // x0 y0 x1 y1 | x4 y4 x5 y5
+    const __m256 z0_low = _mm256_unpacklo_ps(z, zero), z0_high = _mm256_unpackhi_ps(z, zero);
+    const __m256 v04 = _mm256_shuffle_ps(xy_low, z0_low, _MM_SHUFFLE(1, 0, 1, 0));  // vertices 0 | 4
+    const __m256 v15 = _mm256_shuffle_ps(xy_low, z0_low, _MM_SHUFFLE(3, 2, 3, 2));
+    const __m256 v26 = _mm256_shuffle_ps(xy_high, z0_high, _MM_SHUFFLE(1, 0, 1, 0));
+    const __m256 v37 = _mm256_shuffle_ps(xy_high, z0_high, _MM_SHUFFLE(3, 2, 3, 2));
+    float* o = reinterpret_cast<float*>(out + i);
+    _mm256_storeu_ps(o, _mm256_permute2f128_ps(v04, v15, 0x20));       // vertices 0, 1
+    _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(v26, v37, 0x20));   // 2, 3
+    _mm256_storeu_ps(o + 16, _mm256_permute2f128_ps(v04, v15, 0x31));  // 4, 5
+    _mm256_storeu_ps(o + 24, _mm256_permute2f128_ps(v26, v37, 0x31));  // 6, 7
+  }
+#endif
+  for (; i < count; ++i) {
+    const float x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
+    const float inverse_z = 1.0f / z;
+    out[i] = SnapVertex(fx * x * inverse_z + cx, fy * y * inverse_z + cy, z);
+  }
+}
+
 void VisibilityBuffer::Reset(int width, int height) {
   width_ = width;
   height_ = height;

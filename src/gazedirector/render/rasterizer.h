@@ -31,6 +31,11 @@ inline ScreenVertex SnapVertex(float x, float y, float z) {
   return {static_cast<int32_t>(sx + (sx >= 0 ? 0.5f : -0.5f)), static_cast<int32_t>(sy + (sy >= 0 ? 0.5f : -0.5f)), z};
 }
 
+// Projects camera-frame points (x, y, z columns, z > 0 in front) through a
+// pinhole (focal lengths and principal point in pixels) and snaps them:
+// SnapVertex(fx * x / z + cx, fy * y / z + cy, z), eight at a time with AVX2.
+void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, float cy, ScreenVertex* out);
+
 // What each pixel sees: the nearest triangle (an id the caller chose, -1 for
 // none), its depth and the barycentric weights of its vertices 1 and 2
 // (vertex 0 has 1 - b1 - b2).

@@ -67,6 +67,35 @@ TEST(RasterizerTest, BarycentricsReproduceThePixelPosition) {
   EXPECT_GT(checked, 40);
 }
 
+// Projecting eight vertices at a time snaps exactly as SnapVertex does one
+// at a time, also where the coordinates clamp or round half away from zero.
+TEST(RasterizerTest, ProjectedVerticesMatchSnappingEachOne) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> lateral(-80.0f, 80.0f), depth(20.0f, 900.0f);
+  // First (so that they take the vector path) a clamped point, the principal
+  // point and a half-pixel coordinate; the count leaves a scalar tail.
+  std::vector<float> xyz = {1e6f, -1e6f, 1.5f, 0.0f, 0.0f, 600.0f, -0.5f / 600.0f * 300.0f, 0.75f, 300.0f};
+  for (int i = 0; i < 1000; ++i) xyz.insert(xyz.end(), {lateral(random), lateral(random), depth(random)});
+  const int count = static_cast<int>(xyz.size() / 3);
+  const float fx = 600, fy = 610, cx = 99.5f, cy = 49.5f;
+  std::vector<ScreenVertex> projected(count);
+  ProjectVertices(xyz.data(), count, fx, fy, cx, cy, projected.data());
+  for (int i = 0; i < count; ++i) {
+    const float x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
+    const float inverse_z = 1.0f / z;
+    // Rounded before the additions, as rasterizer.cc computes (this file may fuse a multiply-add).
+    const volatile float scaled_x = fx * x * inverse_z, scaled_y = fy * y * inverse_z;
+    const ScreenVertex expected = SnapVertex(scaled_x + cx, scaled_y + cy, z);
+    ASSERT_EQ(projected[i].x, expected.x) << "vertex " << i;
+    ASSERT_EQ(projected[i].y, expected.y) << "vertex " << i;
+    ASSERT_EQ(projected[i].z, expected.z) << "vertex " << i;
+  }
+  EXPECT_EQ(projected[0].x, 65536 * 16);  // clamped
+  EXPECT_EQ(projected[0].y, -65536 * 16);
+  EXPECT_EQ(projected[1].x, 1592);  // 99.5 px
+  EXPECT_EQ(projected[2].x, 1584);  // 99 px exactly
+}
+
 // The vectorized setup, fill and pixel list must give exactly the scalar
 // path's, on random triangles of all sizes.
 TEST(RasterizerTest, VectorizedPathMatchesTheScalarPathBitForBit) {

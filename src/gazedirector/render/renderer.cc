@@ -94,11 +94,7 @@ void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) {
     if (!eyes_[EyeOfPart(part)]) continue;
     const Eigen::Matrix3Xf& positions = posed_.parts[part].positions;
     ScreenVertex* screen = screen_.data() + model_->vertex_offset(part);
-    for (Eigen::Index i = 0; i < positions.cols(); ++i) {
-      const float z = positions(2, i);
-      const float inverse_z = 1.0f / z;
-      screen[i] = SnapVertex(fx * positions(0, i) * inverse_z + cx, fy * positions(1, i) * inverse_z + cy, z);
-    }
+    ProjectVertices(positions.data(), static_cast<int>(positions.cols()), fx, fy, cx, cy, screen);
   }
   const Eigen::Vector3i* triangles = model_->all_triangles().data();
   // Skin first: it hides most of the eyeballs, whose pixels then fail the depth test early.
