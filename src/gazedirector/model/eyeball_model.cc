@@ -47,6 +47,9 @@ std::vector<EyeballPatch> SortIntoPatches(const Eigen::Matrix3Xd& positions, std
   auto centroid = [&](const Eigen::Vector3i& t) {
     return Eigen::Vector3d((positions.col(t[0]) + positions.col(t[1]) + positions.col(t[2])) / 3.0);
   };
+  auto face_normal = [&](const Eigen::Vector3i& t) {
+    return Eigen::Vector3d((positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0])).normalized());
+  };
   auto cell = [&](const Eigen::Vector3i& t) {
     const Eigen::Vector3d g = centroid(t);
     Eigen::Index axis;
@@ -71,16 +74,16 @@ std::vector<EyeballPatch> SortIntoPatches(const Eigen::Matrix3Xd& positions, std
     for (int i = begin; i < end; ++i) {
       const Eigen::Vector3i& t = triangles[i];
       for (int k = 0; k < 3; ++k) patch.centre += positions.col(t[k]) / (3.0 * (end - begin));
-      normal_sum += (positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0])).normalized();
+      normal_sum += face_normal(t);
     }
     patch.axis = normal_sum.normalized();
     double widest_cosine = 1, radius_squared = 0;
     for (int i = begin; i < end; ++i) {
       const Eigen::Vector3i& t = triangles[i];
-      for (int k = 0; k < 3; ++k) radius_squared = std::max(radius_squared, (positions.col(t[k]) - patch.centre).squaredNorm());
-      const Eigen::Vector3d n =
-          (positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0])).normalized();
-      widest_cosine = std::min(widest_cosine, n.dot(patch.axis));
+      for (int k = 0; k < 3; ++k) {
+        radius_squared = std::max(radius_squared, (positions.col(t[k]) - patch.centre).squaredNorm());
+      }
+      widest_cosine = std::min(widest_cosine, face_normal(t).dot(patch.axis));
     }
     patch.radius = std::sqrt(radius_squared);
     patch.cone_sine = widest_cosine > 0 ? std::sqrt(1 - widest_cosine * widest_cosine) : 2.0;

@@ -7,9 +7,6 @@
 
 namespace gazedirector {
 
-// The two-sphere eyeball mesh (sclera sphere of 12.05 mm and corneal bulge),
-// in millimetres, centred at the origin and looking along -y, in the same
-// model frame as the eye region (+x toward the outer corner, +z up).
 // A patch of the eyeball's surface, for culling its triangles together: the
 // triangles [begin, end) of EyeballModel::triangles(), a ball that holds them
 // and the cone that holds their outward face normals (eyeball frame, mm).
@@ -25,6 +22,9 @@ struct EyeballPatch {
   bool FacesAwayFrom(const Eigen::Vector3d& camera) const;
 };
 
+// The two-sphere eyeball mesh (sclera sphere of 12.05 mm and corneal bulge),
+// in millimetres, centred at the origin and looking along -y, in the same
+// model frame as the eye region (+x toward the outer corner, +z up).
 class EyeballModel {
  public:
   static EyeballModel Load(const std::filesystem::path& obj);
@@ -33,8 +33,7 @@ class EyeballModel {
   const Eigen::Matrix3Xd& positions() const { return positions_; }
   const Eigen::Matrix3Xd& normals() const { return normals_; }
   const Eigen::Matrix2Xd& uvs() const { return uvs_; }
-  // Outward-facing, counter-clockwise seen from outside.
-  // Ordered patch by patch.
+  // Outward-facing, counter-clockwise seen from outside; ordered patch by patch.
   const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
   // The surface in patches of neighbouring triangles (a cube map's cells),
   // so that a renderer can skip those facing away or outside the eye opening.

@@ -113,7 +113,8 @@ void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, 
   int i = 0;
 #if defined(GAZEDIRECTOR_AVX512) || defined(GAZEDIRECTOR_AVX2)
   // SnapVertex's arithmetic in the same order, so bit for bit the same.
-  const __m256 scale = _mm256_set1_ps(1 << kSubpixelBits), low = _mm256_set1_ps(-65536.0f), high = _mm256_set1_ps(65536.0f);
+  const __m256 scale = _mm256_set1_ps(1 << kSubpixelBits);
+  const __m256 low = _mm256_set1_ps(-65536.0f), high = _mm256_set1_ps(65536.0f);
   const __m256 half = _mm256_set1_ps(0.5f), minus_half = _mm256_set1_ps(-0.5f), zero = _mm256_setzero_ps();
   auto snap = [&](__m256 pixels) {
     const __m256 s = _mm256_mul_ps(_mm256_min_ps(_mm256_max_ps(pixels, low), high), scale);
@@ -125,8 +126,11 @@ void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, 
     const __m256 x = _mm256_i32gather_ps(p, every_third, 4), y = _mm256_i32gather_ps(p + 1, every_third, 4);
     const __m256 z = _mm256_i32gather_ps(p + 2, every_third, 4);
     const __m256 inverse_z = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
-    const __m256 sx = _mm256_castsi256_ps(snap(_mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(fx), x), inverse_z), _mm256_set1_ps(cx))));
-    const __m256 sy = _mm256_castsi256_ps(snap(_mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(fy), y), inverse_z), _mm256_set1_ps(cy))));
+    auto pixel = [&](float focal, __m256 v, float principal) {  // focal * v * inverse_z + principal, snapped
+      const __m256 scaled = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(focal), v), inverse_z);
+      return _mm256_castsi256_ps(snap(_mm256_add_ps(scaled, _mm256_set1_ps(principal))));
+    };
+    const __m256 sx = pixel(fx, x, cx), sy = pixel(fy, y, cy);
     // Transpose (x, y, z, 0) of eight vertices into their 16-byte slots.
     const __m256 xy_low = _mm256_unpacklo_ps(sx, sy), xy_high = _mm256_unpackhi_ps(sx, sy);  // x0 y0 x1 y1 | x4 y4 x5 y5
     const __m256 z0_low = _mm256_unpacklo_ps(z, zero), z0_high = _mm256_unpackhi_ps(z, zero);
