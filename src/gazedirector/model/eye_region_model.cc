@@ -261,15 +261,15 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
       }
       work.remapped_iris_size = iris_size;
     }
-    ball.uvs = work.remapped_uvs;
-    eyeball_.RefractedUvs(-(eyeball_to_camera.transpose() * eyeball_origin), iris_size, ball.uvs);
-
-    // The lid margins in the eyeball's angular coordinates.
     PosedEye& state = posed.eyes[eye];
     state.centre = eyeball_origin;
     state.gaze = rotation * gaze_head * Eigen::Vector3d(0, 0, -1);
     state.eyeball_to_camera = eyeball_to_camera;
     state.region_to_camera = rotation * model_to_head;
+    ball.uvs = work.remapped_uvs;
+    eyeball_.RefractedUvs(state.CameraInEyeball(), iris_size, ball.uvs);
+
+    // The lid margins in the eyeball's angular coordinates.
     std::array<Eigen::Vector2d, kLidCurvePoints> upper, lower;
     auto angles_of = [&](int vertex) {
       return EyeballModel::AnglesOf((gaze_model.transpose() * work.rigged.col(vertex)).normalized());

@@ -45,6 +45,9 @@ struct PosedEye {
   // cubic in azimuth (radians), for ambient occlusion of the eyeball.
   Eigen::Vector4d upper_lid = Eigen::Vector4d::Zero();
   Eigen::Vector4d lower_lid = Eigen::Vector4d::Zero();
+
+  // Where the camera (the camera frame's origin) is in the eyeball model frame.
+  Eigen::Vector3d CameraInEyeball() const { return -(eyeball_to_camera.transpose() * centre); }
 };
 
 struct PosedModel {

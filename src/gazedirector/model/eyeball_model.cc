@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "gazedirector/io/obj_reader.h"
 #include "gazedirector/model/eye_region_topology.h"
@@ -44,14 +45,11 @@ constexpr double kFacingMargin = 0.05;
 // Orders `triangles` by the cube map cell of their centroids' directions and
 // returns the patches, each with its bounds.
 std::vector<EyeballPatch> SortIntoPatches(const Eigen::Matrix3Xd& positions, std::vector<Eigen::Vector3i>& triangles) {
-  auto centroid = [&](const Eigen::Vector3i& t) {
-    return Eigen::Vector3d((positions.col(t[0]) + positions.col(t[1]) + positions.col(t[2])) / 3.0);
-  };
   auto face_normal = [&](const Eigen::Vector3i& t) {
     return Eigen::Vector3d((positions.col(t[1]) - positions.col(t[0])).cross(positions.col(t[2]) - positions.col(t[0])).normalized());
   };
   auto cell = [&](const Eigen::Vector3i& t) {
-    const Eigen::Vector3d g = centroid(t);
+    const Eigen::Vector3d g = positions.col(t[0]) + positions.col(t[1]) + positions.col(t[2]);  // 3 x the centroid
     Eigen::Index axis;
     g.cwiseAbs().maxCoeff(&axis);
     int key = 2 * static_cast<int>(axis) + (g[axis] > 0);
@@ -62,12 +60,14 @@ std::vector<EyeballPatch> SortIntoPatches(const Eigen::Matrix3Xd& positions, std
     }
     return key;
   };
-  std::stable_sort(triangles.begin(), triangles.end(),
-                   [&](const Eigen::Vector3i& a, const Eigen::Vector3i& b) { return cell(a) < cell(b); });
+  std::vector<std::pair<int, Eigen::Vector3i>> keyed;
+  for (const Eigen::Vector3i& t : triangles) keyed.emplace_back(cell(t), t);
+  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t i = 0; i < keyed.size(); ++i) triangles[i] = keyed[i].second;
   std::vector<EyeballPatch> patches;
-  for (int begin = 0; begin < static_cast<int>(triangles.size());) {
+  for (int begin = 0; begin < static_cast<int>(keyed.size());) {
     int end = begin;
-    while (end < static_cast<int>(triangles.size()) && cell(triangles[end]) == cell(triangles[begin])) ++end;
+    while (end < static_cast<int>(keyed.size()) && keyed[end].first == keyed[begin].first) ++end;
     EyeballPatch patch;
     patch.begin = begin, patch.end = end;
     Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();

@@ -130,7 +130,7 @@ void Renderer::Rasterize(const Camera& camera, RenderBuffers& out) {
 void Renderer::DrawEyeball(int eye, const Camera& camera, const Eigen::Vector3i* triangles, int32_t first,
                            const Eigen::Vector4i& window, RenderBuffers& out) const {
   const PosedEye& posed = posed_.eyes[eye];
-  const Eigen::Vector3d camera_in_eyeball = -(posed.eyeball_to_camera.transpose() * posed.centre);
+  const Eigen::Vector3d camera_in_eyeball = posed.CameraInEyeball();
   int run_begin = 0, run_end = 0;
   auto draw_run = [&] {
     if (run_end > run_begin) {
