@@ -17,6 +17,22 @@ constexpr double kCorneaCentreMm = 4.33;
 constexpr double kCorneaRadiusMm = 8.70;
 constexpr double kLookDownFullDeg = 25.0;
 
+// How far each loop column lies from the corner axis, as a fraction of the
+// lid's middle: sin(pi * along) with along 0 at the inner corner and 1 at the
+// outer one, along the upper lid (columns 1-9) and back along the lower.
+const std::array<double, topology::kLoopColumns>& MidLid() {
+  static const std::array<double, topology::kLoopColumns> table = [] {
+    std::array<double, topology::kLoopColumns> mid_lid{};
+    for (int c = 0; c < topology::kLoopColumns; ++c) {
+      const bool upper = c < topology::kOuterCornerColumn;
+      const double along = upper ? c / 10.0 : (topology::kLoopColumns - c) / 10.0;
+      mid_lid[c] = std::sin(kPi * along);
+    }
+    return mid_lid;
+  }();
+  return table;
+}
+
 }  // namespace
 
 
@@ -46,25 +62,28 @@ void EyelidRig::Apply(double lid_pitch_deg, double closure_deg, const Eigen::Vec
   const Eigen::Vector3d inner = vertices.col(topology::kRigInnerCorner);
 
   std::array<std::array<Eigen::Vector3d, kLoopColumns>, kLoops.size()> offset;
+  const bool moves = lid_angle != 0.0 || closure != 0.0;
+  const std::array<double, kLoopColumns>& mid_lids = MidLid();
   for (std::size_t k = 0; k < kLoops.size(); ++k) {
     const Eigen::Vector3d outer = vertices.col(kLoops[k][topology::kOuterCornerColumn]);
     const Eigen::Vector3d axis = (outer - inner).normalized();
+    const double upper_angle = settings_.loop_strength[k] * (lid_angle - closure);
+    const double lower_angle =
+        settings_.loop_strength[k] * (settings_.lower_lid_ratio * lid_angle + settings_.lower_lid_closure * closure);
+    // The axis runs toward +x (the outer corner); a negative turn about it lifts the front of the lid.
+    const Eigen::Matrix3d upper_turn = Eigen::AngleAxisd(-upper_angle, axis).toRotationMatrix();
+    const Eigen::Matrix3d lower_turn = Eigen::AngleAxisd(-lower_angle, axis).toRotationMatrix();
     for (int c = 0; c < kLoopColumns; ++c) {
       offset[k][c].setZero();
-      if (c == 0 || c == topology::kOuterCornerColumn || (lid_angle == 0.0 && closure == 0.0)) continue;
+      if (c == 0 || c == topology::kOuterCornerColumn || !moves) continue;
       const bool upper = c < topology::kOuterCornerColumn;
-      const double along = upper ? c / 10.0 : (kLoopColumns - c) / 10.0;  // 0 inner corner .. 1 outer corner
-      const double mid_lid = std::sin(kPi * along);
-      const double angle = settings_.loop_strength[k] * (upper ? lid_angle - closure
-                                                               : settings_.lower_lid_ratio * lid_angle +
-                                                                     settings_.lower_lid_closure * closure);
+      const double mid_lid = mid_lids[c];
       const Eigen::Vector3d v = vertices.col(kLoops[k][c]);
       // The pivot slides from the corner axis toward the eyeball centre mid-lid.
       const Eigen::Vector3d on_axis = inner + (v - inner).dot(axis) * axis;
       const Eigen::Vector3d centre_in_plane = on_axis.dot(axis) * axis;
       const Eigen::Vector3d pivot = (1.0 - mid_lid) * on_axis + mid_lid * centre_in_plane;
-      // The axis runs toward +x (the outer corner); a negative turn about it lifts the front of the lid.
-      const Eigen::Vector3d moved = pivot + Eigen::AngleAxisd(-angle, axis) * (v - pivot);
+      const Eigen::Vector3d moved = pivot + (upper ? upper_turn : lower_turn) * (v - pivot);
       offset[k][c] = moved - v;
     }
   }

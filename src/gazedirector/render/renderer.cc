@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
 #include "gazedirector/model/eye_region_topology.h"
 
 namespace gazedirector {
@@ -38,6 +42,22 @@ bool MayReach(const Camera& camera, const Eigen::Vector3d& centre, double radius
   };
   return reaches(centre.x(), camera.fx, camera.cx, window[0], window[2]) &&
          reaches(centre.y(), camera.fy, camera.cy, window[1], window[3]);
+}
+
+// Bit j set where ids[j] (j < count <= 64) is at least `first`.
+uint64_t EyeballBits(const int32_t* ids, int count, int32_t first) {
+  uint64_t bits = 0;
+  int j = 0;
+#if defined(__AVX2__)
+  const __m256i below = _mm256_set1_epi32(first - 1);
+  for (; j + 8 <= count; j += 8) {
+    const __m256i chunk = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + j));
+    const unsigned byte = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(chunk, below))));
+    bits |= static_cast<uint64_t>(byte) << j;
+  }
+#endif
+  for (; j < count; ++j) bits |= static_cast<uint64_t>(ids[j] >= first) << j;
+  return bits;
 }
 
 }  // namespace
@@ -76,6 +96,8 @@ cv::Mat RenderBuffers::PartImage() const {
 Renderer::Renderer(std::shared_ptr<const EyeRegionModel> model) : model_(std::move(model)) {
   screen_.resize(static_cast<std::size_t>(model_->total_vertices()));
   surface_.setZero(4, model_->total_vertices());
+  surface_offsets_.reserve(model_->all_triangles().size());
+  for (const Eigen::Vector3i& t : model_->all_triangles()) surface_offsets_.push_back({4 * t[0], 4 * t[1], 4 * t[2]});
 }
 
 void Renderer::Render(const Parameters& phi, const Camera& camera, RenderBuffers& out) {
@@ -306,18 +328,20 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
 void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out) const {
   const int count = std::min(kShadingChunk, static_cast<int>(out.foreground.size()) - first);
   const VisibilityBuffer& vis = out.visibility;
-  const Eigen::Vector3i* triangles = model_->all_triangles().data();
   const int32_t first_eyeball = out.part_offsets[kLeftEyeball];
   alignas(64) std::array<float, kShadingChunk> u, v, fx, fy, lambert, albedo_r, albedo_g, albedo_b;
-  alignas(64) std::array<int32_t, kShadingChunk> offset;
-  uint64_t eyeballs = 0;
+  alignas(64) std::array<int32_t, kShadingChunk> offset, ids;
   for (int j = 0; j < count; ++j) {
     const int pixel = out.foreground[first + j];
-    const int32_t id = vis.triangle(pixel);
-    eyeballs |= static_cast<uint64_t>(id >= first_eyeball) << j;
-    const Eigen::Vector3i& t = triangles[id];
-    const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
-    const Eigen::Vector4f a = b0 * surface_.col(t[0]) + b1 * surface_.col(t[1]) + b2 * surface_.col(t[2]);
+    const int32_t id = ids[j] = vis.triangle(pixel);
+    const std::array<int32_t, 3>& corners = surface_offsets_[id];
+    // The weights broadcast before b0 is formed, lane by lane (fewer shuffles than in scalars).
+    const Eigen::Vector4f b1 = Eigen::Vector4f::Constant(vis.b1(pixel)), b2 = Eigen::Vector4f::Constant(vis.b2(pixel));
+    const Eigen::Vector4f b0 = Eigen::Vector4f::Ones() - b1 - b2;
+    using Values = Eigen::Map<const Eigen::Vector4f, Eigen::Aligned16>;
+    const float* values = surface_.data();
+    const Eigen::Vector4f a = b0.cwiseProduct(Values(values + corners[0])) + b1.cwiseProduct(Values(values + corners[1])) +
+                              b2.cwiseProduct(Values(values + corners[2]));
     u[j] = a[0], v[j] = a[1], lambert[j] = a[2];
   }
   in.skin_ahead.LocateMany(u.data(), v.data(), count, offset.data(), fx.data(), fy.data());
@@ -334,7 +358,7 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
     green[j] = albedo_g[j] * (ambient_g + light_g * lambert[j]);
     blue[j] = albedo_b[j] * (ambient_b + light_b * lambert[j]);
   }
-  for (; eyeballs != 0; eyeballs &= eyeballs - 1) {
+  for (uint64_t eyeballs = EyeballBits(ids.data(), count, first_eyeball); eyeballs != 0; eyeballs &= eyeballs - 1) {
     const int j = __builtin_ctzll(eyeballs);
     const PixelShading shading = ShadePixel(in, first + j, out);
     out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.light).transpose();

@@ -116,6 +116,9 @@ class Renderer {
   // Per vertex, packed for one vector load: texture u, v and the Lambertian
   // factor max(0, n.l) (the fourth float pads).
   Eigen::Matrix<float, 4, Eigen::Dynamic> surface_;
+  // Per triangle, where its corners' columns of `surface_` start (in floats):
+  // the shading's hottest loop then needs no index arithmetic.
+  std::vector<std::array<int32_t, 3>> surface_offsets_;
   RgbaTexture skin_ahead_;  // the composed skin texture
   RgbaTexture skin_down_;
   Eigen::Matrix<double, kNumTextureModes, 1> composed_for_;
