@@ -224,20 +224,23 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     // Normals of the coarse mesh, subdivided like the positions: a quarter of
     // the cross products of the fine mesh, and as smooth.
     VertexNormals(work.rigged, base_triangles_, work.normals);
+    // Placed in the camera frame before subdividing, where there are a quarter
+    // as many vertices: subdivision is affine (each fine vertex's weights sum to 1).
+    const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
+    const Eigen::Vector3d origin = rotation * centre_head + translation;
     work.coarse.resize(8, work.rigged.cols());
-    work.coarse.topRows<3>() = work.rigged.cast<float>();
-    work.coarse.middleRows<3>(3) = work.normals.cast<float>();
-    work.coarse.bottomRows<2>().setZero();
+    for (Eigen::Index i = 0; i < work.rigged.cols(); ++i) {
+      work.coarse.col(i) << (region_to_camera * work.rigged.col(i) + origin).cast<float>(),
+          (region_to_camera * work.normals.col(i)).cast<float>(), 0.0f, 0.0f;
+    }
     subdivision_.Apply(work.coarse, work.fine);
-    const Eigen::Matrix3f region_to_camera = (rotation * model_to_head).cast<float>();
-    const Eigen::Vector3f origin = (rotation * centre_head + translation).cast<float>();
     PosedPart& skin_part = posed.parts[SkinPart(eye)];
     const int count = subdivision_.num_vertices();
     skin_part.positions.resize(3, count);
     skin_part.normals.resize(3, count);
     for (int i = 0; i < count; ++i) {
-      skin_part.positions.col(i) = region_to_camera * work.fine.col(i).head<3>() + origin;
-      skin_part.normals.col(i) = region_to_camera * work.fine.col(i).segment<3>(3).normalized();
+      skin_part.positions.col(i) = work.fine.col(i).head<3>();
+      skin_part.normals.col(i) = work.fine.col(i).segment<3>(3).normalized();
     }
     if (skin_part.uvs.cols() != skin_uvs_.cols()) skin_part.uvs = skin_uvs_.cast<float>();
 
