@@ -216,6 +216,9 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     // The gaze rotation seen in this eye's model frame (ModelToHead is orthogonal).
     const Eigen::Matrix3d gaze_model = model_to_head.transpose() * gaze_head * model_to_head;
     const Eigen::Vector3d centre_head = EyeCentreInHead(phi, eye);
+    // The region's frame in the camera's; its origin is the eyeball's centre.
+    const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
+    const Eigen::Vector3d eyeball_origin = rotation * centre_head + translation;
 
     // Facial part: rig the lids, subdivide, place in the camera frame.
     work.rigged = work.shape;
@@ -226,11 +229,9 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     VertexNormals(work.rigged, base_triangles_, work.normals);
     // Placed in the camera frame before subdividing, where there are a quarter
     // as many vertices: subdivision is affine (each fine vertex's weights sum to 1).
-    const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
-    const Eigen::Vector3d origin = rotation * centre_head + translation;
     work.coarse.resize(8, work.rigged.cols());
     for (Eigen::Index i = 0; i < work.rigged.cols(); ++i) {
-      work.coarse.col(i) << (region_to_camera * work.rigged.col(i) + origin).cast<float>(),
+      work.coarse.col(i) << (region_to_camera * work.rigged.col(i) + eyeball_origin).cast<float>(),
           (region_to_camera * work.normals.col(i)).cast<float>(), 0.0f, 0.0f;
     }
     subdivision_.Apply(work.coarse, work.fine);
@@ -245,11 +246,9 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     if (skin_part.uvs.cols() != skin_uvs_.cols()) skin_part.uvs = skin_uvs_.cast<float>();
 
     // Eyeball: rotated by the gaze about its centre.
-    const Eigen::Vector3d eyeball_origin = rotation * centre_head + translation;
     const Eigen::Matrix3d eyeball_to_camera = rotation * gaze_head * model_to_head;
     PosedPart& ball = posed.parts[EyeballPart(eye)];
     const int balls = eyeball_.num_vertices();
-    ball.uvs.resize(2, balls);
     const Eigen::Matrix3f eyeball_to_camera_f = eyeball_to_camera.cast<float>();
     ball.positions.noalias() = eyeball_to_camera_f * eyeball_positions_;
     ball.positions.colwise() += eyeball_origin.cast<float>();
@@ -268,7 +267,7 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     state.centre = eyeball_origin;
     state.gaze = rotation * gaze_head * Eigen::Vector3d(0, 0, -1);
     state.eyeball_to_camera = eyeball_to_camera;
-    state.region_to_camera = rotation * model_to_head;
+    state.region_to_camera = region_to_camera;
     ball.uvs = work.remapped_uvs;
     eyeball_.RefractedUvs(state.CameraInEyeball(), iris_size, ball.uvs);
 

@@ -65,6 +65,8 @@ void EyelidRig::Apply(double lid_pitch_deg, double closure_deg, const Eigen::Vec
   const bool moves = lid_angle != 0.0 || closure != 0.0;
   const std::array<double, kLoopColumns>& mid_lids = MidLid();
   for (std::size_t k = 0; k < kLoops.size(); ++k) {
+    offset[k].fill(Eigen::Vector3d::Zero());
+    if (!moves) continue;
     const Eigen::Vector3d outer = vertices.col(kLoops[k][topology::kOuterCornerColumn]);
     const Eigen::Vector3d axis = (outer - inner).normalized();
     const double upper_angle = settings_.loop_strength[k] * (lid_angle - closure);
@@ -73,9 +75,8 @@ void EyelidRig::Apply(double lid_pitch_deg, double closure_deg, const Eigen::Vec
     // The axis runs toward +x (the outer corner); a negative turn about it lifts the front of the lid.
     const Eigen::Matrix3d upper_turn = Eigen::AngleAxisd(-upper_angle, axis).toRotationMatrix();
     const Eigen::Matrix3d lower_turn = Eigen::AngleAxisd(-lower_angle, axis).toRotationMatrix();
-    for (int c = 0; c < kLoopColumns; ++c) {
-      offset[k][c].setZero();
-      if (c == 0 || c == topology::kOuterCornerColumn || !moves) continue;
+    for (int c = 1; c < kLoopColumns; ++c) {  // the corners (columns 0 and the outer one) stay
+      if (c == topology::kOuterCornerColumn) continue;
       const bool upper = c < topology::kOuterCornerColumn;
       const double mid_lid = mid_lids[c];
       const Eigen::Vector3d v = vertices.col(kLoops[k][c]);

@@ -260,6 +260,17 @@ void Renderer::MixLookingDown(ShadingInputs& in) {
   in.mixed = true;
 }
 
+inline Eigen::Vector4f Renderer::SurfaceAt(int32_t triangle, float b1, float b2) const {
+  // The weights are broadcast before b0 is formed, lane by lane (fewer shuffles than in scalars).
+  const Eigen::Vector4f w1 = Eigen::Vector4f::Constant(b1), w2 = Eigen::Vector4f::Constant(b2);
+  const Eigen::Vector4f w0 = Eigen::Vector4f::Ones() - w1 - w2;
+  using Values = Eigen::Map<const Eigen::Vector4f, Eigen::Aligned16>;
+  const float* values = surface_.data();
+  const std::array<int32_t, 3>& corners = surface_offsets_[triangle];
+  return w0.cwiseProduct(Values(values + corners[0])) + w1.cwiseProduct(Values(values + corners[1])) +
+         w2.cwiseProduct(Values(values + corners[2]));
+}
+
 inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const {
   const VisibilityBuffer& vis = out.visibility;
   const int pixel = out.foreground[index];
@@ -267,7 +278,7 @@ inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int 
   const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
   const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
   PixelShading shading;
-  const Eigen::Vector4f a = b0 * surface_.col(t[0]) + b1 * surface_.col(t[1]) + b2 * surface_.col(t[2]);
+  const Eigen::Vector4f a = SurfaceAt(vis.triangle(pixel), b1, b2);
   shading.uv = a.head<2>();
   shading.lambert = a[2];
   shading.light = in.Light(shading.lambert);
@@ -334,14 +345,7 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   for (int j = 0; j < count; ++j) {
     const int pixel = out.foreground[first + j];
     const int32_t id = ids[j] = vis.triangle(pixel);
-    const std::array<int32_t, 3>& corners = surface_offsets_[id];
-    // The weights broadcast before b0 is formed, lane by lane (fewer shuffles than in scalars).
-    const Eigen::Vector4f b1 = Eigen::Vector4f::Constant(vis.b1(pixel)), b2 = Eigen::Vector4f::Constant(vis.b2(pixel));
-    const Eigen::Vector4f b0 = Eigen::Vector4f::Ones() - b1 - b2;
-    using Values = Eigen::Map<const Eigen::Vector4f, Eigen::Aligned16>;
-    const float* values = surface_.data();
-    const Eigen::Vector4f a = b0.cwiseProduct(Values(values + corners[0])) + b1.cwiseProduct(Values(values + corners[1])) +
-                              b2.cwiseProduct(Values(values + corners[2]));
+    const Eigen::Vector4f a = SurfaceAt(id, vis.b1(pixel), vis.b2(pixel));
     u[j] = a[0], v[j] = a[1], lambert[j] = a[2];
   }
   in.skin_ahead.LocateMany(u.data(), v.data(), count, offset.data(), fx.data(), fy.data());

@@ -104,6 +104,8 @@ class Renderer {
   struct ShadingInputs;
   void MixLookingDown(ShadingInputs& in);
   struct PixelShading;
+  // Texture u, v and the Lambertian factor at barycentrics (b1, b2) of a triangle (all_triangles' index).
+  [[gnu::always_inline]] inline Eigen::Vector4f SurfaceAt(int32_t triangle, float b1, float b2) const;
   [[gnu::always_inline]] inline PixelShading ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const;
   ShadingInputs Inputs(const Parameters& phi, const Camera& camera) const;
   static constexpr int kShadingChunk = 64;  // pixels; a bit mask marks its eyeball pixels
