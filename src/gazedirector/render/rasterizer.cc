@@ -38,18 +38,19 @@ int64_t Edge(const ScreenVertex& a, const ScreenVertex& b, int64_t px, int64_t p
   return static_cast<int64_t>(b.y - a.y) * (px - a.x) - static_cast<int64_t>(b.x - a.x) * (py - a.y);
 }
 
+// Pixel centres exactly on an edge belong to the triangle only for top and
+// left edges, so that no pixel is drawn twice or missed along a shared edge.
+// (dx, dy) runs along the edge.
+int32_t TopLeftBias(int32_t dx, int32_t dy) { return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1; }
+int32_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) { return TopLeftBias(b.x - a.x, b.y - a.y); }
+
+#if !defined(GAZEDIRECTOR_AVX2)
 // Edge() in 32 bits for a small triangle's values; unsigned arithmetic wraps
 // where a large triangle's overflow (those are drawn by DrawOne).
 int32_t WrappingEdge(int32_t ax, int32_t ay, int32_t bx, int32_t by, int32_t px, int32_t py) {
   return static_cast<int32_t>(static_cast<uint32_t>(by - ay) * static_cast<uint32_t>(px - ax) -
                               static_cast<uint32_t>(bx - ax) * static_cast<uint32_t>(py - ay));
 }
-
-// Pixel centres exactly on an edge belong to the triangle only for top and
-// left edges, so that no pixel is drawn twice or missed along a shared edge.
-// (dx, dy) runs along the edge.
-int32_t TopLeftBias(int32_t dx, int32_t dy) { return (dy > 0 || (dy == 0 && dx < 0)) ? 0 : -1; }
-int32_t TopLeftBias(const ScreenVertex& a, const ScreenVertex& b) { return TopLeftBias(b.x - a.x, b.y - a.y); }
 
 // Eight flags of 0 or 1 as the bits of a byte, flag i in bit i: one multiply
 // moves every flag into the top byte.
@@ -60,6 +61,7 @@ unsigned LaneBits(const int32_t (&flags)[8]) {
   std::memcpy(&packed, bytes, sizeof(packed));
   return static_cast<unsigned>((packed * 0x0102040810204080ull) >> 56);
 }
+#endif
 
 int32_t FloorPixel(int32_t v) { return v >> kSubpixelBits; }  // arithmetic shift floors
 int32_t CeilPixel(int32_t v) { return -((-v) >> kSubpixelBits); }
@@ -475,10 +477,19 @@ void VisibilityBuffer::Draw(const ScreenVertex* vertices, const Eigen::Vector3i*
 #if defined(GAZEDIRECTOR_AVX2)
 namespace {
 
-// One corner of eight triangles: each vertex read by one vector load, the
-// eight transposed into x, y and z (lanes past `last` repeat that one).
-[[gnu::always_inline]] inline void GatherCorner(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
-                                                int last, int corner, int32_t* x, int32_t* y, float* z) {
+// One corner of eight triangles, a lane each.
+struct Corners {
+  __m256i x, y;
+  __m256 z;
+};
+
+// Each vertex read by one vector load, the eight transposed into x, y and z
+// (lanes past `count` repeat the last triangle; a full batch, kFull, needs no
+// clamping of the lane index).
+template <bool kFull>
+[[gnu::always_inline]] inline Corners GatherCorner(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
+                                                   int count, int corner) {
+  const int last = kFull ? 7 : count - 1;
   auto vertex = [&](int i) {
     return _mm_load_ps(reinterpret_cast<const float*>(vertices + triangles[std::min(i, last)][corner]));
   };
@@ -487,27 +498,31 @@ namespace {
   const __m256 v2 = _mm256_set_m128(vertex(6), vertex(2)), v3 = _mm256_set_m128(vertex(7), vertex(3));
   const __m256 low01 = _mm256_unpacklo_ps(v0, v1), low23 = _mm256_unpacklo_ps(v2, v3);  // x0 x1 y0 y1 | ...
   const __m256 high01 = _mm256_unpackhi_ps(v0, v1), high23 = _mm256_unpackhi_ps(v2, v3);  // z0 z1 - - | ...
-  _mm256_store_ps(reinterpret_cast<float*>(x), _mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(1, 0, 1, 0)));
-  _mm256_store_ps(reinterpret_cast<float*>(y), _mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(3, 2, 3, 2)));
-  _mm256_store_ps(z, _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(1, 0, 1, 0)));
+  return {_mm256_castps_si256(_mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(1, 0, 1, 0))),
+          _mm256_castps_si256(_mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(3, 2, 3, 2))),
+          _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(1, 0, 1, 0))};
 }
 
-// A full batch (kFull) needs no clamping of the lane index.
-template <bool kFull>
-[[gnu::always_inline]] inline void GatherCorners(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
-                                                 int count, int32_t* ax, int32_t* ay, float* az, int32_t* bx,
-                                                 int32_t* by, float* bz, int32_t* cx, int32_t* cy, float* cz) {
-  const int last = kFull ? 7 : count - 1;
-  GatherCorner(vertices, triangles, last, 0, ax, ay, az);
-  GatherCorner(vertices, triangles, last, 1, bx, by, bz);
-  GatherCorner(vertices, triangles, last, 2, cx, cy, cz);
+// Twice the signed area of (a, b, p) in wrapping 32-bit lanes (as the scalar
+// setup's WrappingEdge).
+__m256i WrappingEdges(__m256i ax, __m256i ay, __m256i bx, __m256i by, __m256i px, __m256i py) {
+  return _mm256_sub_epi32(_mm256_mullo_epi32(_mm256_sub_epi32(by, ay), _mm256_sub_epi32(px, ax)),
+                          _mm256_mullo_epi32(_mm256_sub_epi32(bx, ax), _mm256_sub_epi32(py, ay)));
+}
+
+// TopLeftBias of eight edges running (dx, dy).
+__m256i TopLeftBiases(__m256i dx, __m256i dy) {
+  const __m256i zero = _mm256_setzero_si256();
+  const __m256i top_left = _mm256_or_si256(_mm256_cmpgt_epi32(dy, zero),
+                                           _mm256_and_si256(_mm256_cmpeq_epi32(dy, zero), _mm256_cmpgt_epi32(zero, dx)));
+  return _mm256_xor_si256(top_left, _mm256_set1_epi32(-1));
 }
 
 }  // namespace
 #endif
 
 // Eight triangles at a time: their culling, clipping and edge setup are
-// branch-free loops over the lanes, which the compiler vectorizes (AVX2);
+// branch-free (in vector registers with AVX2, else a loop over the lanes);
 // the survivors are then filled: with AVX2 the small ones together by
 // FillStamps, the rest one by one in order, large triangles by DrawOne.
 void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
@@ -515,52 +530,102 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
   constexpr int kLanes = 8;
   const int32_t left = clip[0] * kOne, top = clip[1] * kOne, right = clip[2] * kOne, bottom = clip[3] * kOne;
   const int32_t clip_x0 = clip[0], clip_y0 = clip[1], clip_x1 = clip[2], clip_y1 = clip[3];
-  alignas(32) int32_t ax[kLanes], ay[kLanes], bx[kLanes], by[kLanes], cx[kLanes], cy[kLanes];
-  alignas(32) float az[kLanes], bz[kLanes], cz[kLanes];
-  alignas(32) int32_t fill[kLanes], large[kLanes];  // 0 or 1
   PreparedBatch p;
   for (int first = 0; first < num_triangles; first += kLanes) {
     const int count = std::min(kLanes, num_triangles - first);
     // Lanes past the end repeat the last triangle and are never drawn.
+    unsigned fill_bits = 0, large_bits = 0;
 #if defined(GAZEDIRECTOR_AVX2)
-    if (count == kLanes) {
-      GatherCorners<true>(vertices, triangles + first, count, ax, ay, az, bx, by, bz, cx, cy, cz);
-    } else {
-      GatherCorners<false>(vertices, triangles + first, count, ax, ay, az, bx, by, bz, cx, cy, cz);
-    }
+    // The scalar loop below, lane for lane.
+    const bool full = count == kLanes;
+    auto gather = [&](int corner) {
+      return full ? GatherCorner<true>(vertices, triangles + first, count, corner)
+                  : GatherCorner<false>(vertices, triangles + first, count, corner);
+    };
+    const Corners a = gather(0), b = gather(1), c = gather(2);
+    auto at_least = [](__m256i v, int32_t bound) { return _mm256_cmpgt_epi32(v, _mm256_set1_epi32(bound - 1)); };
+    auto at_most = [](__m256i v, int32_t bound) { return _mm256_cmpgt_epi32(_mm256_set1_epi32(bound + 1), v); };
+    auto bits = [](__m256i mask) { return static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(mask))); };
+    const __m256i min_x = _mm256_min_epi32(a.x, _mm256_min_epi32(b.x, c.x));
+    const __m256i max_x = _mm256_max_epi32(a.x, _mm256_max_epi32(b.x, c.x));
+    const __m256i min_y = _mm256_min_epi32(a.y, _mm256_min_epi32(b.y, c.y));
+    const __m256i max_y = _mm256_max_epi32(a.y, _mm256_max_epi32(b.y, c.y));
+    const unsigned on_window = bits(_mm256_and_si256(_mm256_and_si256(at_least(max_x, left), at_least(max_y, top)),
+                                                     _mm256_and_si256(at_most(min_x, right), at_most(min_y, bottom))));
+    const __m256i near_coordinates =
+        _mm256_and_si256(_mm256_and_si256(at_least(min_x, -kMaxCoordinate), at_least(min_y, -kMaxCoordinate)),
+                         _mm256_and_si256(at_most(max_x, kMaxCoordinate), at_most(max_y, kMaxCoordinate)));
+    const unsigned small = bits(_mm256_and_si256(
+        near_coordinates, _mm256_and_si256(at_most(_mm256_sub_epi32(max_x, min_x), kSmall - 1),
+                                           at_most(_mm256_sub_epi32(max_y, min_y), kSmall - 1))));
+    const __m256i area = WrappingEdges(a.x, a.y, b.x, b.y, c.x, c.y);
+    const __m256 near = _mm256_set1_ps(kNearDepth);
+    const unsigned in_front =
+        bits(at_least(area, 1)) & static_cast<unsigned>(_mm256_movemask_ps(_mm256_and_ps(
+                                      _mm256_and_ps(_mm256_cmp_ps(a.z, near, _CMP_GE_OQ), _mm256_cmp_ps(b.z, near, _CMP_GE_OQ)),
+                                      _mm256_cmp_ps(c.z, near, _CMP_GE_OQ))));
+    // CeilPixel and FloorPixel, clipped.
+    const __m256i zero = _mm256_setzero_si256();
+    auto ceil_pixel = [&](__m256i v) { return _mm256_sub_epi32(zero, _mm256_srai_epi32(_mm256_sub_epi32(zero, v), kSubpixelBits)); };
+    const __m256i x0 = _mm256_max_epi32(_mm256_set1_epi32(clip_x0), ceil_pixel(min_x));
+    const __m256i x1 = _mm256_min_epi32(_mm256_set1_epi32(clip_x1), _mm256_srai_epi32(max_x, kSubpixelBits));
+    const __m256i y0 = _mm256_max_epi32(_mm256_set1_epi32(clip_y0), ceil_pixel(min_y));
+    const __m256i y1 = _mm256_min_epi32(_mm256_set1_epi32(clip_y1), _mm256_srai_epi32(max_y, kSubpixelBits));
+    const unsigned box = ~bits(_mm256_or_si256(_mm256_cmpgt_epi32(x0, x1), _mm256_cmpgt_epi32(y0, y1))) & 0xFFu;
+    fill_bits = on_window & small & in_front & box;
+    large_bits = on_window & ~small & 0xFFu;
+    const __m256i px = _mm256_slli_epi32(x0, kSubpixelBits), py = _mm256_slli_epi32(y0, kSubpixelBits);
+    const __m256i bias0 = TopLeftBiases(_mm256_sub_epi32(c.x, b.x), _mm256_sub_epi32(c.y, b.y));
+    const __m256i bias1 = TopLeftBiases(_mm256_sub_epi32(a.x, c.x), _mm256_sub_epi32(a.y, c.y));
+    const __m256i bias2 = TopLeftBiases(_mm256_sub_epi32(b.x, a.x), _mm256_sub_epi32(b.y, a.y));
+    auto store = [](int32_t* field, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(field), v); };
+    store(p.bias1, bias1);
+    store(p.bias2, bias2);
+    store(p.row0, _mm256_add_epi32(WrappingEdges(b.x, b.y, c.x, c.y, px, py), bias0));
+    store(p.row1, _mm256_add_epi32(WrappingEdges(c.x, c.y, a.x, a.y, px, py), bias1));
+    store(p.row2, _mm256_add_epi32(WrappingEdges(a.x, a.y, b.x, b.y, px, py), bias2));
+    store(p.step_x0, _mm256_slli_epi32(_mm256_sub_epi32(c.y, b.y), kSubpixelBits));
+    store(p.step_x1, _mm256_slli_epi32(_mm256_sub_epi32(a.y, c.y), kSubpixelBits));
+    store(p.step_x2, _mm256_slli_epi32(_mm256_sub_epi32(b.y, a.y), kSubpixelBits));
+    store(p.step_y0, _mm256_slli_epi32(_mm256_sub_epi32(b.x, c.x), kSubpixelBits));
+    store(p.step_y1, _mm256_slli_epi32(_mm256_sub_epi32(c.x, a.x), kSubpixelBits));
+    store(p.step_y2, _mm256_slli_epi32(_mm256_sub_epi32(a.x, b.x), kSubpixelBits));
+    _mm256_store_ps(p.inverse_area, _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_cvtepi32_ps(area)));
+    _mm256_store_ps(p.z0, a.z);
+    _mm256_store_ps(p.dz1, _mm256_sub_ps(b.z, a.z));
+    _mm256_store_ps(p.dz2, _mm256_sub_ps(c.z, a.z));
+    store(p.x0, x0), store(p.x1, x1), store(p.y0, y0), store(p.y1, y1);
 #else
+    alignas(32) int32_t fill[kLanes], large[kLanes];  // 0 or 1
     for (int i = 0; i < kLanes; ++i) {
       const Eigen::Vector3i& t = triangles[first + std::min(i, count - 1)];
       const ScreenVertex &a = vertices[t[0]], &b = vertices[t[1]], &c = vertices[t[2]];
-      ax[i] = a.x, ay[i] = a.y, az[i] = a.z, bx[i] = b.x, by[i] = b.y, bz[i] = b.z, cx[i] = c.x, cy[i] = c.y, cz[i] = c.z;
-    }
-#endif
-    for (int i = 0; i < kLanes; ++i) {
-      const int32_t min_x = std::min(ax[i], std::min(bx[i], cx[i])), max_x = std::max(ax[i], std::max(bx[i], cx[i]));
-      const int32_t min_y = std::min(ay[i], std::min(by[i], cy[i])), max_y = std::max(ay[i], std::max(by[i], cy[i]));
+      const int32_t min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
+      const int32_t min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
       const bool on_window = (max_x >= left) & (max_y >= top) & (min_x <= right) & (min_y <= bottom);
       const bool small = (max_x - min_x < kSmall) & (max_y - min_y < kSmall) & (min_x >= -kMaxCoordinate) &
                          (min_y >= -kMaxCoordinate) & (max_x <= kMaxCoordinate) & (max_y <= kMaxCoordinate);
-      const int32_t area = WrappingEdge(ax[i], ay[i], bx[i], by[i], cx[i], cy[i]);
-      const bool in_front = (area > 0) & (az[i] >= kNearDepth) & (bz[i] >= kNearDepth) & (cz[i] >= kNearDepth);
+      const int32_t area = WrappingEdge(a.x, a.y, b.x, b.y, c.x, c.y);
+      const bool in_front = (area > 0) & (a.z >= kNearDepth) & (b.z >= kNearDepth) & (c.z >= kNearDepth);
       const int32_t x0 = std::max(clip_x0, CeilPixel(min_x)), x1 = std::min(clip_x1, FloorPixel(max_x));
       const int32_t y0 = std::max(clip_y0, CeilPixel(min_y)), y1 = std::min(clip_y1, FloorPixel(max_y));
       fill[i] = on_window & small & in_front & (x0 <= x1) & (y0 <= y1);
       large[i] = on_window & !small;
       const int32_t px = x0 * kOne, py = y0 * kOne;
-      p.bias1[i] = TopLeftBias(ax[i] - cx[i], ay[i] - cy[i]);
-      p.bias2[i] = TopLeftBias(bx[i] - ax[i], by[i] - ay[i]);
-      p.row0[i] = WrappingEdge(bx[i], by[i], cx[i], cy[i], px, py) + TopLeftBias(cx[i] - bx[i], cy[i] - by[i]);
-      p.row1[i] = WrappingEdge(cx[i], cy[i], ax[i], ay[i], px, py) + p.bias1[i];
-      p.row2[i] = WrappingEdge(ax[i], ay[i], bx[i], by[i], px, py) + p.bias2[i];
-      p.step_x0[i] = (cy[i] - by[i]) * kOne, p.step_x1[i] = (ay[i] - cy[i]) * kOne, p.step_x2[i] = (by[i] - ay[i]) * kOne;
-      p.step_y0[i] = (bx[i] - cx[i]) * kOne, p.step_y1[i] = (cx[i] - ax[i]) * kOne, p.step_y2[i] = (ax[i] - bx[i]) * kOne;
+      p.bias1[i] = TopLeftBias(a.x - c.x, a.y - c.y);
+      p.bias2[i] = TopLeftBias(b.x - a.x, b.y - a.y);
+      p.row0[i] = WrappingEdge(b.x, b.y, c.x, c.y, px, py) + TopLeftBias(c.x - b.x, c.y - b.y);
+      p.row1[i] = WrappingEdge(c.x, c.y, a.x, a.y, px, py) + p.bias1[i];
+      p.row2[i] = WrappingEdge(a.x, a.y, b.x, b.y, px, py) + p.bias2[i];
+      p.step_x0[i] = (c.y - b.y) * kOne, p.step_x1[i] = (a.y - c.y) * kOne, p.step_x2[i] = (b.y - a.y) * kOne;
+      p.step_y0[i] = (b.x - c.x) * kOne, p.step_y1[i] = (c.x - a.x) * kOne, p.step_y2[i] = (a.x - b.x) * kOne;
       p.inverse_area[i] = 1.0f / static_cast<float>(area);
-      p.z0[i] = az[i], p.dz1[i] = bz[i] - az[i], p.dz2[i] = cz[i] - az[i];
+      p.z0[i] = a.z, p.dz1[i] = b.z - a.z, p.dz2[i] = c.z - a.z;
       p.x0[i] = x0, p.x1[i] = x1, p.y0[i] = y0, p.y1[i] = y1;
     }
+    fill_bits = LaneBits(fill), large_bits = LaneBits(large);
+#endif
     // The lanes to draw as bits, walked in order (a branch per lane mispredicts).
-    const unsigned fill_bits = LaneBits(fill), large_bits = LaneBits(large);
     const unsigned in_batch = (1u << count) - 1;
     unsigned todo = (fill_bits | large_bits) & in_batch;
 #if defined(GAZEDIRECTOR_AVX2)
