@@ -16,7 +16,7 @@ class Subdivision {
   static Subdivision Load(const std::filesystem::path& dir, const std::string& name, int num_source_vertices);
 
   int num_source_vertices() const { return num_source_; }
-  int num_vertices() const { return static_cast<int>(offsets_.size()) - 1; }
+  int num_vertices() const { return num_vertices_; }
   const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
 
   // out.col(r) = Σ_k w_rk source.col(i_rk); works for positions and uvs alike
@@ -28,20 +28,35 @@ class Subdivision {
     out.resize(kRows, num_vertices());
     using Scalar = typename Matrix::Scalar;
     using Column = Eigen::Matrix<Scalar, kRows, 1>;
-    for (int r = 0; r < num_vertices(); ++r) {
-      Column sum = Column::Zero();
-      for (int k = offsets_[r]; k < offsets_[r + 1]; ++k) {
-        sum += static_cast<Scalar>(weights_[k]) * Eigen::Map<const Column>(source.data() + static_cast<std::ptrdiff_t>(indices_[k]) * kRows);
+    for (const Group& group : groups_) {
+      const int* index = group.indices.data();
+      const double* weight = group.weights.data();
+      for (int row : group.rows) {
+        Column sum = Column::Zero();
+        for (int k = 0; k < group.terms; ++k) {
+          sum += static_cast<Scalar>(weight[k]) * Eigen::Map<const Column>(source.data() + static_cast<std::ptrdiff_t>(index[k]) * kRows);
+        }
+        Eigen::Map<Column>(out.data() + static_cast<std::ptrdiff_t>(row) * kRows) = sum;
+        index += group.terms;
+        weight += group.terms;
       }
-      Eigen::Map<Column>(out.data() + static_cast<std::ptrdiff_t>(r) * kRows) = sum;
     }
   }
 
  private:
+  // Stencils with the same number of terms, stored together: each group's
+  // inner loop then runs one length, which the branch predictor learns
+  // (stencils of mixed lengths in turn mispredict most loop exits).
+  struct Group {
+    int terms = 0;
+    std::vector<int> rows;        // the new vertices
+    std::vector<int> indices;     // `terms` per row
+    std::vector<double> weights;
+  };
+
   int num_source_ = 0;
-  std::vector<int> offsets_;
-  std::vector<int> indices_;
-  std::vector<double> weights_;
+  int num_vertices_ = 0;
+  std::vector<Group> groups_;
   std::vector<Eigen::Vector3i> triangles_;
 };
 

@@ -122,11 +122,17 @@ void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, 
     const __m256 s = _mm256_mul_ps(_mm256_min_ps(_mm256_max_ps(pixels, low), high), scale);
     return _mm256_cvttps_epi32(_mm256_add_ps(s, _mm256_blendv_ps(minus_half, half, _mm256_cmp_ps(s, zero, _CMP_GE_OQ))));
   };
-  const __m256i every_third = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
   for (; i + 8 <= count; i += 8) {
+    // Eight (x, y, z) split into x, y and z by shuffles within 128-bit lanes
+    // (vertices 0-3 in the low lanes, 4-7 in the high; gathers are slower).
     const float* p = xyz + 3 * i;
-    const __m256 x = _mm256_i32gather_ps(p, every_third, 4), y = _mm256_i32gather_ps(p + 1, every_third, 4);
-    const __m256 z = _mm256_i32gather_ps(p + 2, every_third, 4);
+    const __m256 m03 = _mm256_loadu2_m128(p + 12, p), m14 = _mm256_loadu2_m128(p + 16, p + 4);
+    const __m256 m25 = _mm256_loadu2_m128(p + 20, p + 8);
+    const __m256 xy = _mm256_shuffle_ps(m14, m25, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
+    const __m256 yz = _mm256_shuffle_ps(m03, m14, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
+    const __m256 x = _mm256_shuffle_ps(m03, xy, _MM_SHUFFLE(2, 0, 3, 0));
+    const __m256 y = _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0));
+    const __m256 z = _mm256_shuffle_ps(yz, m25, _MM_SHUFFLE(3, 0, 3, 1));
     const __m256 inverse_z = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
     auto pixel = [&](float focal, __m256 v, float principal) {  // focal * v * inverse_z + principal, snapped
       const __m256 scaled = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(focal), v), inverse_z);
