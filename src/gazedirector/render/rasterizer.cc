@@ -542,7 +542,7 @@ void VisibilityBuffer::DrawBatchesPortable(const ScreenVertex* vertices, const E
     // Lanes past the end repeat the last triangle and are never drawn.
     unsigned fill_bits = 0, large_bits = 0;
 #if defined(GAZEDIRECTOR_AVX2)
-    // The scalar loop below, lane for lane.
+    // The same arithmetic as the scalar loop after #else, lane for lane.
     const bool full = count == kLanes;
     auto gather = [&](int corner) {
       return full ? GatherCorner<true>(vertices, triangles + first, count, corner)
