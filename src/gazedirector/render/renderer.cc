@@ -294,11 +294,16 @@ inline Eigen::Vector4f Renderer::SurfaceAt(int32_t triangle, float b1, float b2)
 inline Renderer::PixelShading Renderer::ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const {
   const VisibilityBuffer& vis = out.visibility;
   const int pixel = out.foreground[index];
+  return ShadeSurface(in, pixel, SurfaceAt(vis.triangle(pixel), vis.b1(pixel), vis.b2(pixel)), out);
+}
+
+inline Renderer::PixelShading Renderer::ShadeSurface(const ShadingInputs& in, int pixel, const Eigen::Vector4f& a,
+                                                     const RenderBuffers& out) const {
+  const VisibilityBuffer& vis = out.visibility;
   const int part = out.PartAt(pixel);
   const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
   const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
   PixelShading shading;
-  const Eigen::Vector4f a = SurfaceAt(vis.triangle(pixel), b1, b2);
   shading.uv = a.head<2>();
   shading.lambert = a[2];
   shading.light = in.Light(shading.lambert);
@@ -355,7 +360,7 @@ void Renderer::Shade(const Parameters& phi, const Camera& camera, RenderBuffers&
 // over a chunk of pixels: interpolate, find the texels (a vectorised loop),
 // sample, light (vectorised). Every pixel takes them, eyeball pixels too
 // (their texture coordinates are in range), which is cheaper than telling
-// them apart; eyeball pixels are then shaded again by ShadePixel.
+// them apart; eyeball pixels are then shaded again by ShadeSurface.
 void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out) const {
   const int count = std::min(kShadingChunk, static_cast<int>(out.foreground.size()) - first);
   const VisibilityBuffer& vis = out.visibility;
@@ -385,7 +390,9 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   }
   for (uint64_t eyeballs = EyeballBits(ids.data(), count, first_eyeball); eyeballs != 0; eyeballs &= eyeballs - 1) {
     const int j = __builtin_ctzll(eyeballs);
-    const PixelShading shading = ShadePixel(in, first + j, out);
+    // The chunk's interpolation above already gave this pixel's surface values.
+    const Eigen::Vector4f surface(u[j], v[j], lambert[j], 0.0f);
+    const PixelShading shading = ShadeSurface(in, out.foreground[first + j], surface, out);
     out.colour.row(first + j) = shading.albedo.cwiseProduct(shading.light).transpose();
   }
 }

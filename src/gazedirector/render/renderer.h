@@ -107,6 +107,9 @@ class Renderer {
   // Texture u, v and the Lambertian factor at barycentrics (b1, b2) of a triangle (all_triangles' index).
   [[gnu::always_inline]] inline Eigen::Vector4f SurfaceAt(int32_t triangle, float b1, float b2) const;
   [[gnu::always_inline]] inline PixelShading ShadePixel(const ShadingInputs& in, int index, const RenderBuffers& out) const;
+  // The same from the pixel's surface values (SurfaceAt) where they are known already.
+  [[gnu::always_inline]] inline PixelShading ShadeSurface(const ShadingInputs& in, int pixel, const Eigen::Vector4f& surface,
+                                                          const RenderBuffers& out) const;
   ShadingInputs Inputs(const Parameters& phi, const Camera& camera) const;
   static constexpr int kShadingChunk = 64;  // pixels; a bit mask marks its eyeball pixels
   void ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out) const;
