@@ -6,15 +6,13 @@
 #include <cmath>
 
 #include <Eigen/Dense>
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/obj_reader.h"
 #include "gazedirector/model/eye_region_topology.h"
+#include "gazedirector/util/simd.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -22,19 +20,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kEyeballTextureSize = 512;
-
-#if defined(__AVX2__) && defined(__FMA__)
-// Eight points' (x, y, z), each channel in a register (points 0-3 in the low
-// 128-bit lanes, 4-7 in the high), stored as consecutive triples.
-void StoreTriples(__m256 x, __m256 y, __m256 z, float* out) {
-  const __m256 xy = _mm256_shuffle_ps(x, y, _MM_SHUFFLE(2, 0, 2, 0));  // x0 x2 y0 y2
-  const __m256 yz = _mm256_shuffle_ps(y, z, _MM_SHUFFLE(3, 1, 3, 1));  // y1 y3 z1 z3
-  const __m256 zx = _mm256_shuffle_ps(z, x, _MM_SHUFFLE(3, 1, 2, 0));  // z0 z2 x1 x3
-  _mm256_storeu2_m128(out + 12, out, _mm256_shuffle_ps(xy, zx, _MM_SHUFFLE(2, 0, 2, 0)));     // x0 y0 z0 x1
-  _mm256_storeu2_m128(out + 16, out + 4, _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0)));  // y1 z1 x2 y2
-  _mm256_storeu2_m128(out + 20, out + 8, _mm256_shuffle_ps(zx, yz, _MM_SHUFFLE(3, 1, 3, 1)));  // z2 x3 y3 z3
-}
-#endif
 
 // The subdivided skin's positions and unit normals, out of its packed
 // columns (x, y, z, nx, ny, nz and two unused floats per vertex). With AVX2,
@@ -51,28 +36,18 @@ void UnpackSkin(const Eigen::Matrix<float, 8, Eigen::Dynamic>& fine, Eigen::Matr
 #if defined(__AVX2__) && defined(__FMA__)
   for (; i + 8 <= count; i += 8) {
     const float* p = fine.data() + 8 * static_cast<std::ptrdiff_t>(i);
-    // Rows k of a 4x4 transpose: vertex k in the low lanes, k + 4 in the high.
-    __m256 low[4], high[4];
-    for (int k = 0; k < 4; ++k) {
-      low[k] = _mm256_loadu2_m128(p + 8 * (k + 4), p + 8 * k);           // x y z nx
-      high[k] = _mm256_loadu2_m128(p + 8 * (k + 4) + 4, p + 8 * k + 4);  // ny nz - -
-    }
-    const __m256 low01 = _mm256_unpacklo_ps(low[0], low[1]), low23 = _mm256_unpacklo_ps(low[2], low[3]);
-    const __m256 high01 = _mm256_unpackhi_ps(low[0], low[1]), high23 = _mm256_unpackhi_ps(low[2], low[3]);
-    const __m256 x = _mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(1, 0, 1, 0));
-    const __m256 y = _mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(3, 2, 3, 2));
-    const __m256 z = _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(1, 0, 1, 0));
-    const __m256 nx = _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(3, 2, 3, 2));
-    const __m256 n01 = _mm256_unpacklo_ps(high[0], high[1]), n23 = _mm256_unpacklo_ps(high[2], high[3]);
-    const __m256 ny = _mm256_shuffle_ps(n01, n23, _MM_SHUFFLE(1, 0, 1, 0));
-    const __m256 nz = _mm256_shuffle_ps(n01, n23, _MM_SHUFFLE(3, 2, 3, 2));
+    // Each column's two halves, vertex k in the low 128-bit lanes and k + 4 in the high.
+    auto half = [&](int k, int h) { return _mm256_loadu2_m128(p + 8 * (k + 4) + 4 * h, p + 8 * k + 4 * h); };
+    const simd::Channels front = simd::Transpose(half(0, 0), half(1, 0), half(2, 0), half(3, 0));  // x y z nx
+    const simd::Channels back = simd::Transpose(half(0, 1), half(1, 1), half(2, 1), half(3, 1));   // ny nz - -
+    const __m256 nx = front.w, ny = back.x, nz = back.y;
     const __m256 squared = _mm256_fmadd_ps(nx, nx, _mm256_fmadd_ps(nz, nz, _mm256_mul_ps(ny, ny)));
     const __m256 length = _mm256_sqrt_ps(squared);
     const __m256 positive = _mm256_cmp_ps(squared, _mm256_setzero_ps(), _CMP_GT_OQ);
     auto unit = [&](__m256 v) { return _mm256_blendv_ps(v, _mm256_div_ps(v, length), positive); };
     const std::ptrdiff_t out = 3 * static_cast<std::ptrdiff_t>(i);
-    StoreTriples(x, y, z, positions.data() + out);
-    StoreTriples(unit(nx), unit(ny), unit(nz), normals.data() + out);
+    simd::StoreTriples(front.x, front.y, front.z, positions.data() + out);
+    simd::StoreTriples(unit(nx), unit(ny), unit(nz), normals.data() + out);
   }
 #endif
   for (; i < count; ++i) {

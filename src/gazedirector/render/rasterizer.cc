@@ -5,6 +5,8 @@
 #include <cstring>
 #include <limits>
 
+#include "gazedirector/util/simd.h"
+
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
 #include <immintrin.h>
 #define GAZEDIRECTOR_AVX512 1
@@ -123,16 +125,9 @@ void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, 
     return _mm256_cvttps_epi32(_mm256_add_ps(s, _mm256_blendv_ps(minus_half, half, _mm256_cmp_ps(s, zero, _CMP_GE_OQ))));
   };
   for (; i + 8 <= count; i += 8) {
-    // Eight (x, y, z) split into x, y and z by shuffles within 128-bit lanes
-    // (vertices 0-3 in the low lanes, 4-7 in the high; gathers are slower).
-    const float* p = xyz + 3 * i;
-    const __m256 m03 = _mm256_loadu2_m128(p + 12, p), m14 = _mm256_loadu2_m128(p + 16, p + 4);
-    const __m256 m25 = _mm256_loadu2_m128(p + 20, p + 8);
-    const __m256 xy = _mm256_shuffle_ps(m14, m25, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
-    const __m256 yz = _mm256_shuffle_ps(m03, m14, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
-    const __m256 x = _mm256_shuffle_ps(m03, xy, _MM_SHUFFLE(2, 0, 3, 0));
-    const __m256 y = _mm256_shuffle_ps(yz, xy, _MM_SHUFFLE(3, 1, 2, 0));
-    const __m256 z = _mm256_shuffle_ps(yz, m25, _MM_SHUFFLE(3, 0, 3, 1));
+    // Split by shuffles (gathers are slower).
+    const simd::Channels point = simd::LoadTriples(xyz + 3 * i);
+    const __m256 x = point.x, y = point.y, z = point.z;
     const __m256 inverse_z = _mm256_div_ps(_mm256_set1_ps(1.0f), z);
     auto pixel = [&](float focal, __m256 v, float principal) {  // focal * v * inverse_z + principal, snapped
       const __m256 scaled = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(focal), v), inverse_z);
@@ -502,11 +497,8 @@ template <bool kFull>
   // Rows: lanes (i, i + 4) of each register hold vertices i and i + 4.
   const __m256 v0 = _mm256_set_m128(vertex(4), vertex(0)), v1 = _mm256_set_m128(vertex(5), vertex(1));
   const __m256 v2 = _mm256_set_m128(vertex(6), vertex(2)), v3 = _mm256_set_m128(vertex(7), vertex(3));
-  const __m256 low01 = _mm256_unpacklo_ps(v0, v1), low23 = _mm256_unpacklo_ps(v2, v3);  // x0 x1 y0 y1 | ...
-  const __m256 high01 = _mm256_unpackhi_ps(v0, v1), high23 = _mm256_unpackhi_ps(v2, v3);  // z0 z1 - - | ...
-  return {_mm256_castps_si256(_mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(1, 0, 1, 0))),
-          _mm256_castps_si256(_mm256_shuffle_ps(low01, low23, _MM_SHUFFLE(3, 2, 3, 2))),
-          _mm256_shuffle_ps(high01, high23, _MM_SHUFFLE(1, 0, 1, 0))};
+  const simd::Channels xyz = simd::Transpose(v0, v1, v2, v3);
+  return {_mm256_castps_si256(xyz.x), _mm256_castps_si256(xyz.y), xyz.z};
 }
 
 // Twice the signed area of (a, b, p) in wrapping 32-bit lanes (as the scalar

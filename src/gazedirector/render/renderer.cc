@@ -9,6 +9,7 @@
 #endif
 
 #include "gazedirector/model/eye_region_topology.h"
+#include "gazedirector/util/simd.h"
 
 namespace gazedirector {
 namespace {
@@ -68,13 +69,11 @@ void SplitThree(const float* packed, int count, float* first, float* second, flo
 #if defined(__AVX2__)
   for (; i + 8 <= count; i += 8) {
     const float* p = packed + 4 * i;
-    const __m256 a = _mm256_loadu2_m128(p + 16, p), b = _mm256_loadu2_m128(p + 20, p + 4);  // groups 0 | 4, 1 | 5
-    const __m256 c = _mm256_loadu2_m128(p + 24, p + 8), d = _mm256_loadu2_m128(p + 28, p + 12);
-    const __m256 ab_low = _mm256_unpacklo_ps(a, b), cd_low = _mm256_unpacklo_ps(c, d);  // x0 x1 y0 y1 | x4 x5 y4 y5
-    const __m256 ab_high = _mm256_unpackhi_ps(a, b), cd_high = _mm256_unpackhi_ps(c, d);  // z0 z1 - - | z4 z5 - -
-    _mm256_storeu_ps(first + i, _mm256_shuffle_ps(ab_low, cd_low, _MM_SHUFFLE(1, 0, 1, 0)));
-    _mm256_storeu_ps(second + i, _mm256_shuffle_ps(ab_low, cd_low, _MM_SHUFFLE(3, 2, 3, 2)));
-    _mm256_storeu_ps(third + i, _mm256_shuffle_ps(ab_high, cd_high, _MM_SHUFFLE(1, 0, 1, 0)));
+    auto row = [&](int k) { return _mm256_loadu2_m128(p + 4 * (k + 4), p + 4 * k); };  // groups k | k + 4
+    const simd::Channels group = simd::Transpose(row(0), row(1), row(2), row(3));
+    _mm256_storeu_ps(first + i, group.x);
+    _mm256_storeu_ps(second + i, group.y);
+    _mm256_storeu_ps(third + i, group.z);
   }
 #endif
   for (; i < count; ++i) first[i] = packed[4 * i], second[i] = packed[4 * i + 1], third[i] = packed[4 * i + 2];
