@@ -69,11 +69,10 @@ class VisibilityBuffer {
   void CollectCovered(std::vector<int>& pixels) const;
 
   // Whether vector instructions are used where the build has them (the
-  // default): rows are filled eight pixels at a time with AVX2 or AVX-512
-  // (with AVX2, triangles up to four pixels wide two rows at a time, and
-  // those up to six pixels wide and high eight triangles at a time, one per
-  // lane), triangles set up eight or sixteen at a time, covered pixels
-  // collected eight or sixteen at a time. Off, everything takes the scalar
+  // default): with AVX2, rows are filled eight pixels at a time (triangles up
+  // to four pixels wide two rows at a time, and those up to six pixels wide
+  // and high eight triangles at a time, one per lane), triangles set up eight
+  // at a time, covered pixels collected eight at a time. Off, everything takes the scalar
   // path. Both give identical buffers and pixel lists (up to which of two
   // triangles wins a pixel centre they reach at exactly the same depth).
   void set_vectorized(bool on) { vectorized_ = on; }
@@ -91,8 +90,6 @@ class VisibilityBuffer {
   void DrawOne(const ScreenVertex* vertices, const Eigen::Vector3i& triangle, int32_t id, const Eigen::Vector4i& clip);
   void DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles, int32_t id_offset,
                    const Eigen::Vector4i& clip);
-  void DrawBatchesPortable(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
-                           int32_t id_offset, const Eigen::Vector4i& clip);
   void FillRows(const PreparedBatch& batch, int lane, int32_t id);
   void FillRowsVectorized(const PreparedBatch& batch, int lane, int32_t id);
   void FillRowPairs(const PreparedBatch& batch, int lane, int32_t id);
