@@ -1,5 +1,7 @@
 #include "gazedirector/fit/fit_options.h"
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 
@@ -31,20 +33,37 @@ const std::map<std::string, Accessor>& Options() {
   return options;
 }
 
+double ParseNumber(const std::string& text, const std::string& assignment) {
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used != text.size()) throw std::invalid_argument("trailing characters");
+    return value;
+  } catch (const std::exception&) {
+    Fail(ExitCode::kUsage, "fit option '{}': the value is not a number", assignment);
+  }
+}
+
 }  // namespace
 
 void SetFitOption(FitOptions& options, const std::string& assignment) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos) Fail(ExitCode::kUsage, "fit option '{}': expected name=value", assignment);
   const std::string name = assignment.substr(0, equals);
-  double value = 0;
-  try {
-    std::size_t used = 0;
-    value = std::stod(assignment.substr(equals + 1), &used);
-    if (used != assignment.size() - equals - 1) throw std::invalid_argument("trailing characters");
-  } catch (const std::exception&) {
-    Fail(ExitCode::kUsage, "fit option '{}': the value is not a number", assignment);
+  const std::string text = assignment.substr(equals + 1);
+  if (name == "pitch_starts") {  // a fresh fit's starting pitches, degrees, comma-separated
+    std::vector<double> starts;
+    for (std::size_t begin = 0; begin <= text.size();) {
+      const std::size_t comma = std::min(text.find(',', begin), text.size());
+      const double start = ParseNumber(text.substr(begin, comma - begin), assignment);
+      if (std::abs(start) > 45) Fail(ExitCode::kUsage, "fit option pitch_starts: each start must be within -45..45 degrees");
+      starts.push_back(start);
+      begin = comma + 1;
+    }
+    options.pitch_starts = starts;
+    return;
   }
+  const double value = ParseNumber(text, assignment);
   if (name == "iterations") {
     if (value < 1 || value > 1000) Fail(ExitCode::kUsage, "fit option iterations must be 1..1000");
     options.max_iterations = static_cast<int>(value);
@@ -78,7 +97,8 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
 }
 
 std::vector<std::string> ListFitOptions() {
-  std::vector<std::string> names = {"iterations", "work_width", "coarse_to_fine", "hold_rotation", "hold_shape", "gaze_search"};
+  std::vector<std::string> names = {"iterations", "work_width", "coarse_to_fine", "hold_rotation", "hold_shape", "gaze_search",
+                                    "pitch_starts"};
   for (const auto& [name, accessor] : Options()) names.push_back(name);
   return names;
 }

@@ -1,0 +1,51 @@
+#include "gazedirector/fit/fit_options.h"
+
+#include <gtest/gtest.h>
+
+#include "gazedirector/util/error.h"
+
+namespace gazedirector {
+namespace {
+
+ExitCode CodeOf(FitOptions& options, const std::string& assignment) {
+  try {
+    SetFitOption(options, assignment);
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return ExitCode::kOk;
+}
+
+TEST(FitOptionsTest, NumbersSetTheirOption) {
+  FitOptions options;
+  SetFitOption(options, "truncation=0.2");
+  SetFitOption(options, "iterations=24");
+  SetFitOption(options, "gaze_search=0");
+  EXPECT_DOUBLE_EQ(options.weights.truncation, 0.2);
+  EXPECT_EQ(options.max_iterations, 24);
+  EXPECT_FALSE(options.gaze_search);
+}
+
+TEST(FitOptionsTest, PitchStartsTakeACommaSeparatedList) {
+  FitOptions options;
+  SetFitOption(options, "pitch_starts=-12.5,0,7");
+  EXPECT_EQ(options.pitch_starts, (std::vector<double>{-12.5, 0, 7}));
+  SetFitOption(options, "pitch_starts=3");
+  EXPECT_EQ(options.pitch_starts, (std::vector<double>{3}));
+}
+
+TEST(FitOptionsTest, BadAssignmentsAreUsageErrorsThatChangeNothing) {
+  FitOptions options;
+  const FitOptions before = options;
+  for (const std::string bad : {"truncation", "truncation=abc", "truncation=0.2x", "truncation=-1", "unknown=1",
+                                "iterations=0", "pitch_starts=", "pitch_starts=1,,2", "pitch_starts=-10,50",
+                                "pitch_starts=1;2"}) {
+    EXPECT_EQ(CodeOf(options, bad), ExitCode::kUsage) << bad;
+  }
+  EXPECT_EQ(options.pitch_starts, before.pitch_starts);
+  EXPECT_EQ(options.weights.truncation, before.weights.truncation);
+  EXPECT_EQ(options.max_iterations, before.max_iterations);
+}
+
+}  // namespace
+}  // namespace gazedirector
