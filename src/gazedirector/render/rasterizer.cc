@@ -134,13 +134,10 @@ void ProjectVertices(const float* xyz, int count, float fx, float fy, float cx, 
       return _mm256_castsi256_ps(snap(_mm256_add_ps(scaled, _mm256_set1_ps(principal))));
     };
     const __m256 sx = pixel(fx, x, cx), sy = pixel(fy, y, cy);
-    // Transpose (x, y, z, 0) of eight vertices into their 16-byte slots.
-    const __m256 xy_low = _mm256_unpacklo_ps(sx, sy), xy_high = _mm256_unpackhi_ps(sx, sy);  // x0 y0 x1 y1 | x4 y4 x5 y5
-    const __m256 z0_low = _mm256_unpacklo_ps(z, zero), z0_high = _mm256_unpackhi_ps(z, zero);
-    const __m256 v04 = _mm256_shuffle_ps(xy_low, z0_low, _MM_SHUFFLE(1, 0, 1, 0));  // vertices 0 | 4
-    const __m256 v15 = _mm256_shuffle_ps(xy_low, z0_low, _MM_SHUFFLE(3, 2, 3, 2));
-    const __m256 v26 = _mm256_shuffle_ps(xy_high, z0_high, _MM_SHUFFLE(1, 0, 1, 0));
-    const __m256 v37 = _mm256_shuffle_ps(xy_high, z0_high, _MM_SHUFFLE(3, 2, 3, 2));
+    // (x, y, z, 0) of eight vertices: the transpose is its own inverse, so
+    // the channels come out as records, vertices k | k + 4 in register k.
+    const simd::Channels vertex = simd::Transpose(sx, sy, z, zero);
+    const __m256 v04 = vertex.x, v15 = vertex.y, v26 = vertex.z, v37 = vertex.w;
     float* o = reinterpret_cast<float*>(out + i);
     _mm256_storeu_ps(o, _mm256_permute2f128_ps(v04, v15, 0x20));       // vertices 0, 1
     _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(v26, v37, 0x20));   // 2, 3
