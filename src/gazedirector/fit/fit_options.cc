@@ -56,7 +56,9 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
     for (std::size_t begin = 0; begin <= text.size();) {
       const std::size_t comma = std::min(text.find(',', begin), text.size());
       const double start = ParseNumber(text.substr(begin, comma - begin), assignment);
-      if (std::abs(start) > 45) Fail(ExitCode::kUsage, "fit option pitch_starts: each start must be within -45..45 degrees");
+      if (std::abs(start) > kGazePitchBoundDeg) {
+        Fail(ExitCode::kUsage, "fit option pitch_starts: each start must be within ±{} degrees", kGazePitchBoundDeg);
+      }
       starts.push_back(start);
       begin = comma + 1;
     }

@@ -76,7 +76,7 @@ void ClampToBounds(Parameters& phi) {
   clamp_block(Block::kAmbient, 0.0, 3.0);
   clamp_block(Block::kLightColour, 0.0, 3.0);
   clamp_block(Block::kLightDirection, -80, 80);
-  phi.gaze_pitch() = std::clamp(phi.gaze_pitch(), -45.0, 45.0);
+  phi.gaze_pitch() = std::clamp(phi.gaze_pitch(), -kGazePitchBoundDeg, kGazePitchBoundDeg);
   phi.gaze_yaw() = std::clamp(phi.gaze_yaw(), -50.0, 50.0);
   phi.vergence() = std::clamp(phi.vergence(), -4.0, 20.0);
 }

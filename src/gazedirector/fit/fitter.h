@@ -145,8 +145,9 @@ class Fitter {
   Eigen::VectorXf residuals_;
 };
 
-// How far the lids may pitch either way, degrees.
+// How far the lids and the gaze may pitch either way, degrees.
 inline constexpr double kEyelidPitchBoundDeg = 40;
+inline constexpr double kGazePitchBoundDeg = 45;
 
 // Clamps Φ to plausible values (PCA within 3 standard deviations, gaze
 // within the eye's range, lids within kEyelidPitchBoundDeg, positive colours
