@@ -132,10 +132,14 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   const fs::path dir = ScratchDir("cli_columbia_exclude");
   std::string output;
   ASSERT_EQ(RunCli("eval columbia --subjects 0007 0013 --exclude-subjects 0007 --poses 0 --every 10 --csv " +
-                       Quote(dir / "crops.csv") + " --plot " + Quote(dir / "curves.png"),
+                       Quote(dir / "crops.csv") + " --plot " + Quote(dir / "curves.png") + " --json --fit truncation=0.07",
                    &output),
             0)
       << output;
+  // The figures come with the fit options they were measured with.
+  const nlohmann::json result = nlohmann::json::parse(output.substr(output.find('{')));
+  EXPECT_DOUBLE_EQ(result["fit_options"]["truncation"].get<double>(), 0.07);
+  EXPECT_EQ(result["fit_options"]["work_width"].get<int>(), 128);  // the 64 px crops, resampled
   std::ifstream csv(dir / "crops.csv");
   std::string line;
   std::getline(csv, line);  // header

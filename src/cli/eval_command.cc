@@ -215,6 +215,7 @@ int RunColumbiaEval(const EvalOptions& options) {
     result["fits_per_s"] = RoundTo(fits_per_s, 2);
     result["threads"] = options.threads;
     result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
+    result["fit_options"] = FitOptionsToJson(fit_options);
     for (const auto& [pose, summary] : by_photo.by_pose) {
       nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
       entry = ToJson(summary);
@@ -335,6 +336,7 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
     result["registered"] = options.redirect.register_crops;
     for (const auto& [v, errors] : by_vertical) result["by_vertical"][std::to_string(v)] = errors.ToJson();
     result["seconds"] = RoundTo(seconds, 1);
+    result["fit_options"] = FitOptionsToJson(fit_options);
     fmt::print("{}\n", result.dump());
     return 0;
   }

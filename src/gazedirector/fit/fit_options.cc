@@ -106,9 +106,20 @@ std::vector<std::string> ListFitOptions() {
 }
 
 nlohmann::json FitOptionsToJson(const FitOptions& options) {
+  auto all_held = [&](Block block) {
+    const BlockLayout& layout = LayoutOf(block);
+    for (int i = 0; i < layout.size; ++i) {
+      if (options.free[layout.offset + i]) return false;
+    }
+    return true;
+  };
   nlohmann::json json = {{"iterations", options.max_iterations},
                          {"work_width", options.work_width},
-                         {"coarse_to_fine", options.coarse_to_fine}};
+                         {"coarse_to_fine", options.coarse_to_fine},
+                         {"hold_rotation", all_held(Block::kRotation)},
+                         {"hold_shape", all_held(Block::kShape)},
+                         {"gaze_search", options.gaze_search},
+                         {"pitch_starts", options.pitch_starts}};
   FitOptions copy = options;
   for (const auto& [name, accessor] : Options()) json[name] = accessor(copy);
   return json;

@@ -13,6 +13,8 @@ namespace gazedirector {
 // "truncation=0.2" or "iterations=24"); ListFitOptions() names them all.
 void SetFitOption(FitOptions& options, const std::string& assignment);
 std::vector<std::string> ListFitOptions();
+// Every named option's value (ListFitOptions' names as keys), for recording
+// what a measurement ran with.
 nlohmann::json FitOptionsToJson(const FitOptions& options);
 
 }  // namespace gazedirector

@@ -47,5 +47,20 @@ TEST(FitOptionsTest, BadAssignmentsAreUsageErrorsThatChangeNothing) {
   EXPECT_EQ(options.max_iterations, before.max_iterations);
 }
 
+TEST(FitOptionsTest, TheRecordNamesEveryOptionWithItsValue) {
+  FitOptions options;
+  SetFitOption(options, "truncation=0.2");
+  SetFitOption(options, "pitch_starts=-5,5");
+  SetFitOption(options, "hold_shape=1");
+  const nlohmann::json record = FitOptionsToJson(options);
+  for (const std::string& name : ListFitOptions()) EXPECT_TRUE(record.contains(name)) << name;
+  EXPECT_EQ(record.size(), ListFitOptions().size());
+  EXPECT_DOUBLE_EQ(record["truncation"].get<double>(), 0.2);
+  EXPECT_EQ(record["pitch_starts"].get<std::vector<double>>(), (std::vector<double>{-5, 5}));
+  EXPECT_TRUE(record["hold_shape"].get<bool>());
+  EXPECT_FALSE(record["hold_rotation"].get<bool>());
+  EXPECT_EQ(record["iterations"].get<int>(), FitOptions().max_iterations);
+}
+
 }  // namespace
 }  // namespace gazedirector
