@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -71,8 +72,9 @@ int RunBench(const BenchOptions& options) {
   };
   for (const std::string& name : options.only) {
     if (std::none_of(figures.begin(), figures.end(), [&](const Figure& figure) { return figure.name == name; })) {
-      Fail(ExitCode::kUsage, "bench --only: unknown figure '{}' (landmarks_fps, renders_per_s, fit_fps, track_fps, redirect_fps)",
-           name);
+      std::vector<std::string> names;
+      for (const Figure& figure : figures) names.push_back(figure.name);
+      Fail(ExitCode::kUsage, "bench --only: unknown figure '{}' (one of {})", name, fmt::join(names, ", "));
     }
   }
   auto rounded = [](double value) { return std::round(value * 10) / 10; };
