@@ -120,6 +120,7 @@ TEST(CliGazeTest, RedirectColumbiaScoresOneSubjectRegisteredAndAsCut) {
   EXPECT_GE(registered["crops"].get<int>(), 30);
   EXPECT_TRUE(registered["registered"].get<bool>());
   EXPECT_FALSE(as_cut["registered"].get<bool>());
+  EXPECT_EQ(registered["fit_options"]["work_width"].get<int>(), 128);  // what the crops were fitted with
   // Registering removes the crops' landmark framing from every comparison.
   EXPECT_LT(registered["error_none"].get<double>(), as_cut["error_none"].get<double>());
   EXPECT_LT(registered["error_full"].get<double>(), registered["error_none"].get<double>());
