@@ -44,6 +44,24 @@ double ParseNumber(const std::string& text, const std::string& assignment) {
   }
 }
 
+// Holds every parameter of `block` at its start (or frees them all).
+void HoldBlock(FitOptions& options, Block block, bool held) {
+  if (held) {
+    Hold(options.free, {block});
+    return;
+  }
+  const ParameterMask block_mask = MaskOf({block});
+  for (int i = 0; i < kNumParameters; ++i) options.free[i] = options.free[i] || block_mask[i];
+}
+
+bool BlockHeld(const FitOptions& options, Block block) {
+  const ParameterMask block_mask = MaskOf({block});
+  for (int i = 0; i < kNumParameters; ++i) {
+    if (block_mask[i] && options.free[i]) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void SetFitOption(FitOptions& options, const std::string& assignment) {
@@ -77,11 +95,11 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
     return;
   }
   if (name == "hold_rotation") {  // keep the eye region's rotation at its start
-    for (int i = 0; i < 3; ++i) options.free[LayoutOf(Block::kRotation).offset + i] = value == 0;
+    HoldBlock(options, Block::kRotation, value != 0);
     return;
   }
   if (name == "hold_shape") {  // keep the shape PCA at its start (the mean)
-    for (int i = 0; i < kNumShapeModes; ++i) options.free[LayoutOf(Block::kShape).offset + i] = value == 0;
+    HoldBlock(options, Block::kShape, value != 0);
     return;
   }
   if (name == "gaze_search") {
@@ -106,18 +124,11 @@ std::vector<std::string> ListFitOptions() {
 }
 
 nlohmann::json FitOptionsToJson(const FitOptions& options) {
-  auto all_held = [&](Block block) {
-    const BlockLayout& layout = LayoutOf(block);
-    for (int i = 0; i < layout.size; ++i) {
-      if (options.free[layout.offset + i]) return false;
-    }
-    return true;
-  };
   nlohmann::json json = {{"iterations", options.max_iterations},
                          {"work_width", options.work_width},
                          {"coarse_to_fine", options.coarse_to_fine},
-                         {"hold_rotation", all_held(Block::kRotation)},
-                         {"hold_shape", all_held(Block::kShape)},
+                         {"hold_rotation", BlockHeld(options, Block::kRotation)},
+                         {"hold_shape", BlockHeld(options, Block::kShape)},
                          {"gaze_search", options.gaze_search},
                          {"pitch_starts", options.pitch_starts}};
   FitOptions copy = options;

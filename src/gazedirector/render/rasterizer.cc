@@ -488,8 +488,8 @@ __m256i TopLeftBiases(__m256i dx, __m256i dy) {
 // branch-free (in vector registers with AVX2, else a loop over the lanes);
 // the survivors are then filled: with AVX2 the small ones together by
 // FillStamps, the rest one by one in order, large triangles by DrawOne.
-void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles,
-                                           int num_triangles, int32_t id_offset, const Eigen::Vector4i& clip) {
+void VisibilityBuffer::DrawBatches(const ScreenVertex* vertices, const Eigen::Vector3i* triangles, int num_triangles,
+                                   int32_t id_offset, const Eigen::Vector4i& clip) {
   constexpr int kLanes = PreparedBatch::kLanes;
   const int32_t left = clip[0] * kOne, top = clip[1] * kOne, right = clip[2] * kOne, bottom = clip[3] * kOne;
   const int32_t clip_x0 = clip[0], clip_y0 = clip[1], clip_x1 = clip[2], clip_y1 = clip[3];
