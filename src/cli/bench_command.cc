@@ -14,6 +14,7 @@
 #include "gazedirector/eval/performance.h"
 #include "gazedirector/face/face_tracker.h"
 #include "gazedirector/io/assets.h"
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/statistics.h"
 
@@ -77,7 +78,6 @@ int RunBench(const BenchOptions& options) {
       Fail(ExitCode::kUsage, "bench --only: unknown figure '{}' (one of {})", name, fmt::join(names, ", "));
     }
   }
-  auto rounded = [](double value) { return std::round(value * 10) / 10; };
   nlohmann::json results = nlohmann::json::object();
   if (!options.json) fmt::print("{:<20} {:>10}  {:>19}  {:>8}\n", "figure", "median", "runs (min-max)", "target");
   for (const Figure& figure : figures) {
@@ -88,8 +88,8 @@ int RunBench(const BenchOptions& options) {
     for (int i = 0; i < options.repeats; ++i) runs.push_back(figure.measure());
     const double median = Median(runs);
     const auto [low, high] = std::minmax_element(runs.begin(), runs.end());
-    results[figure.name] = rounded(median);
-    for (double run : runs) results["runs"][figure.name].push_back(rounded(run));
+    results[figure.name] = RoundTo(median, 1);
+    for (double run : runs) results["runs"][figure.name].push_back(RoundTo(run, 1));
     if (!options.json) {
       fmt::print("{:<20} {:>10.1f}  {:>19}  {:>8}{}\n", figure.name, median, fmt::format("{:.1f}-{:.1f}", *low, *high),
                  fmt::format(">= {:g}", figure.target), *low < figure.target ? "  (a run below the target)" : "");
