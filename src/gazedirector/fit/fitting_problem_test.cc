@@ -1,0 +1,105 @@
+#include "gazedirector/fit/fitting_problem.h"
+
+#include <algorithm>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/fit/fitter.h"
+#include "gazedirector/io/image_io.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+std::shared_ptr<const EyeRegionModel> Model() {
+  static const auto model = EyeRegionModel::Load(testing::TestAssets());
+  return model;
+}
+
+// A real Columbia crop of the image-left eye (the model's right eye), set up
+// as an eye-patch fit sets it up, at the crop's own resolution.
+struct CropProblem {
+  CropProblem() {
+    const cv::Mat crop = ReadImage(testing::DataPath("columbia-eyes/0003_2m_0P_0V_10H_L.jpg"));
+    cv::Mat rgb;
+    cv::cvtColor(crop, rgb, cv::COLOR_BGR2RGB);
+    rgb.convertTo(rgb, CV_32FC3, 1.0 / 255.0);
+    const Camera camera = Fitter::EyePatchCamera(crop.size());
+    const LandmarkModel framing = LandmarkModel(*Model()).EyeCentre(kRightEye);
+    problem = std::make_unique<FittingProblem>(Model(), rgb, camera, framing,
+                                               std::vector<Eigen::Vector2d>{{camera.cx, camera.cy}},
+                                               std::vector<double>{1.0}, EnergyWeights{}, std::array<bool, 2>{false, true});
+    Fitter fitter(Model());
+    phi = fitter.EyePatchStart(crop.size(), kRightEye);
+    // A gaze other than the photo's, with the lids left behind: every term of
+    // the energy is then at work.
+    phi.gaze_pitch() = 5;
+    phi.gaze_yaw() = 8;
+  }
+
+  std::unique_ptr<FittingProblem> problem;
+  Parameters phi;
+};
+
+// Gauss-Newton minimises the sum of squared residuals, so that sum must be
+// the energy: at the Φ whose render set the domain, the domain holds every
+// rendered pixel, and the image residuals carry the truncation, the area
+// normalisation and the eyeball weight.
+TEST(FittingProblemTest, ResidualsSquareToTheEnergy) {
+  for (double eyeball_weight : {1.0, 3.0}) {
+    CropProblem crop;
+    crop.problem->weights().eyeball_pixels = eyeball_weight;
+    EvaluationWorkspace work(Model());
+    const EnergyTerms terms = crop.problem->Evaluate(crop.phi, work, nullptr);
+    ASSERT_GT(terms.foreground, 1000);
+    crop.problem->SetDomain(work.buffers, 2);
+    Eigen::VectorXf residuals;
+    const EnergyTerms again = crop.problem->Evaluate(crop.phi, work, &residuals);
+    EXPECT_EQ(again.total(), terms.total());
+    ASSERT_EQ(residuals.size(), crop.problem->num_residuals());
+    EXPECT_NEAR(residuals.cast<double>().squaredNorm(), terms.total(), 1e-5 * terms.total()) << "eyeball weight " << eyeball_weight;
+    const double image = residuals.head(crop.problem->num_image_residuals()).cast<double>().squaredNorm();
+    EXPECT_NEAR(image, terms.image, 1e-5 * terms.image);
+    EXPECT_GT(terms.landmarks, 0);
+    EXPECT_GT(terms.pose, 0);
+  }
+}
+
+// No pixel counts more than the truncation T (times the eyeball weight), and
+// some do reach it: the misplaced iris, the photo's highlights and lashes.
+TEST(FittingProblemTest, TheTruncationCapsEveryPixel) {
+  CropProblem crop;
+  const double eyeball_weight = 2.0;
+  crop.problem->weights().eyeball_pixels = eyeball_weight;
+  EvaluationWorkspace work(Model());
+  const EnergyTerms terms = crop.problem->Evaluate(crop.phi, work, nullptr);
+  crop.problem->SetDomain(work.buffers, 2);
+  Eigen::VectorXf residuals;
+  crop.problem->Evaluate(crop.phi, work, &residuals);
+  const double cap = crop.problem->weights().truncation / terms.foreground;
+  int capped = 0;
+  for (int d = 0; d < static_cast<int>(crop.problem->domain().size()); ++d) {
+    const double squared = residuals.segment<3>(3 * d).cast<double>().squaredNorm();
+    EXPECT_LE(squared, eyeball_weight * cap * (1 + 1e-5)) << "pixel " << crop.problem->domain()[d];
+    if (squared >= cap * (1 - 1e-5)) ++capped;
+  }
+  EXPECT_GT(capped, 0);
+}
+
+// The domain is the render's footprint grown by the margin, in raster order.
+TEST(FittingProblemTest, TheDomainHoldsTheRenderAndItsMargin) {
+  CropProblem crop;
+  EvaluationWorkspace work(Model());
+  crop.problem->Evaluate(crop.phi, work, nullptr);
+  crop.problem->SetDomain(work.buffers, 0);
+  EXPECT_EQ(crop.problem->domain(), work.buffers.foreground);
+  crop.problem->SetDomain(work.buffers, 2);
+  const std::vector<int>& domain = crop.problem->domain();
+  EXPECT_TRUE(std::is_sorted(domain.begin(), domain.end()));
+  EXPECT_TRUE(std::includes(domain.begin(), domain.end(), work.buffers.foreground.begin(), work.buffers.foreground.end()));
+  EXPECT_GT(domain.size(), work.buffers.foreground.size());
+}
+
+}  // namespace
+}  // namespace gazedirector
