@@ -6,8 +6,12 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 
 #include <fmt/format.h>
+
+#include "gazedirector/io/image_io.h"
 
 namespace gazedirector::testing {
 namespace fs = std::filesystem;
@@ -24,6 +28,34 @@ const Assets& TestAssets() {
 std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector() {
   static const auto detector = std::make_shared<const LandmarkDetector>(TestAssets().landmark_model());
   return detector;
+}
+
+std::shared_ptr<const EyeRegionModel> SharedModel() {
+  static const auto model = EyeRegionModel::Load(TestAssets());
+  return model;
+}
+
+FaceTracker MakeFaceTracker(const FaceTrackerOptions& options) {
+  return FaceTracker(SharedLandmarkDetector(), LoadMeanFace(TestAssets().mean_face()), options);
+}
+
+DetectedStill DetectStill(const std::string& photo) {
+  DetectedStill still;
+  still.image = ReadImage(DataPath(photo));
+  still.camera = Camera::Default(still.image.cols, still.image.rows);
+  still.faces = MakeFaceTracker().DetectFaces(still.image, still.camera);
+  return still;
+}
+
+const FittedStill& FitStill(const std::string& photo) {
+  static std::mutex mutex;
+  static std::map<std::string, FittedStill> fitted;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto found = fitted.find(photo);
+  if (found != fitted.end()) return found->second;
+  FittedStill still{DetectStill(photo), {}};
+  if (!still.faces.empty()) still.fit = Fitter(SharedModel()).FitFace(still.image, still.camera, still.faces.front());
+  return fitted.emplace(photo, std::move(still)).first->second;
 }
 
 fs::path ScratchDir(const std::string& name) {

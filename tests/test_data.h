@@ -4,8 +4,13 @@
 #include <memory>
 #include <string>
 
+#include <opencv2/core.hpp>
+
+#include "gazedirector/face/face_tracker.h"
 #include "gazedirector/face/landmark_detector.h"
+#include "gazedirector/fit/fitter.h"
 #include "gazedirector/io/assets.h"
+#include "gazedirector/model/eye_region_model.h"
 
 namespace gazedirector::testing {
 
@@ -15,6 +20,25 @@ std::filesystem::path DataPath(const std::string& relative);  // under ../shared
 const Assets& TestAssets();
 // One landmark model per test binary: loading it takes half a second.
 std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector();
+// The eye-region model, loaded once per test binary.
+std::shared_ptr<const EyeRegionModel> SharedModel();
+// A fresh face tracker on the shared landmark model and the assets' mean face.
+FaceTracker MakeFaceTracker(const FaceTrackerOptions& options = {});
+
+// A real still under ../shared/data, its default camera, and the faces a
+// fresh face tracker finds there.
+struct DetectedStill {
+  cv::Mat image;
+  Camera camera;
+  std::vector<Face> faces;
+};
+DetectedStill DetectStill(const std::string& photo);
+// The same with its first face fitted afresh with the default options; each
+// photo is detected and fitted once per test binary.
+struct FittedStill : DetectedStill {
+  FitResult fit;
+};
+const FittedStill& FitStill(const std::string& photo);
 // A fresh folder under the build tree's temp dir, removed with the process.
 std::filesystem::path ScratchDir(const std::string& name);
 // The gazedirector program built beside the tests.

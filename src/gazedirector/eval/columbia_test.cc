@@ -68,7 +68,7 @@ TEST(ColumbiaTest, EyesLookingIntoALensAroundTheHeadAreTurnedInTheHead) {
   }
   FitOptions options;
   options.work_width = 128;
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   int toward_camera = 0;
   for (const ColumbiaFit& fit : FitColumbia(crops, model, options, 2, false)) {
     const double label = fit.crop.Label(GazeFrame::kHead).y();
@@ -110,7 +110,7 @@ TEST(ColumbiaTest, BothEyesOfARealFaceGiveItsHorizontalGaze) {
   }
   FitOptions options;
   options.work_width = 128;
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   const std::vector<ColumbiaPhoto> photos = CombineEyes(FitColumbia(crops, model, options, 2, false));
   ASSERT_EQ(photos.size(), 2u);
   for (const ColumbiaPhoto& photo : photos) {

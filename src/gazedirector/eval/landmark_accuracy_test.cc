@@ -8,7 +8,7 @@ namespace gazedirector {
 namespace {
 
 TEST(LandmarkAccuracyTest, HandMarkedTestFacesAreFoundAndLandmarkedAccurately) {
-  FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  FaceTracker tracker = testing::MakeFaceTracker();
   const LandmarkAccuracy accuracy =
       EvaluateLandmarks(testing::DataPath("dlib-faces/testing_with_face_landmarks.xml"), tracker,
                         *testing::SharedLandmarkDetector());

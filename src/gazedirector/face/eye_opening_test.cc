@@ -25,7 +25,7 @@ TEST(EyeOpeningTest, AspectRatioIsLidHeightOverEyeWidth) {
 
 // d14.mp4 blinks at frames 16-21 (closed at 17-20).
 TEST(EyeOpeningTest, TheLandmarksOfARealVideoSeeABlink) {
-  FaceTracker faces(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  FaceTracker faces = testing::MakeFaceTracker();
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   EyeOpeningTracker opening;

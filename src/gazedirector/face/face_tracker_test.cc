@@ -11,9 +11,7 @@ namespace {
 
 using testing::DataPath;
 
-FaceTracker MakeTracker(FaceTrackerOptions options = {}) {
-  return FaceTracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()), options);
-}
+using testing::MakeFaceTracker;
 
 std::vector<cv::Mat> ReadFrames(const std::string& video, int count) {
   VideoReader reader(DataPath(video));
@@ -24,10 +22,7 @@ std::vector<cv::Mat> ReadFrames(const std::string& video, int count) {
 }
 
 // The faces a fresh tracker finds in one of the real photos, with the default camera.
-std::vector<Face> FacesIn(const std::string& photo) {
-  const cv::Mat image = ReadImage(DataPath(photo));
-  return MakeTracker().DetectFaces(image, Camera::Default(image.cols, image.rows));
-}
+std::vector<Face> FacesIn(const std::string& photo) { return testing::DetectStill(photo).faces; }
 
 TEST(FaceTrackerTest, FindsTheFaceInAPortraitAndNoneInACat) {
   const std::vector<Face> faces = FacesIn("images/s42.jpg");
@@ -59,14 +54,14 @@ TEST(FaceTrackerTest, FindsAFaceThatHogScoresLowAsAWeakDetection) {
 TEST(FaceTrackerTest, FindsEveryFaceInAGroupPhotoAndLargestPicksOne) {
   const cv::Mat group = ReadImage(DataPath("dlib-faces/bald_guys.jpg"));
   const Camera camera = Camera::Default(group.cols, group.rows);
-  FaceTracker all = MakeTracker();
+  FaceTracker all = MakeFaceTracker();
   const std::vector<Face> faces = all.DetectFaces(group, camera);
   ASSERT_GE(faces.size(), 3u);
   for (std::size_t i = 1; i < faces.size(); ++i) EXPECT_LE(faces[i - 1].box.x, faces[i].box.x) << "ids go left to right";
 
   FaceTrackerOptions largest_only;
   largest_only.largest_only = true;
-  FaceTracker largest = MakeTracker(largest_only);
+  FaceTracker largest = MakeFaceTracker(largest_only);
   const std::vector<Face> one = largest.DetectFaces(group, camera);
   ASSERT_EQ(one.size(), 1u);
   for (const Face& face : faces) EXPECT_LE(face.box.area(), one[0].box.area() + 1e-6);
@@ -76,8 +71,8 @@ TEST(FaceTrackerTest, TracksAVideoFaceWithAStableIdAndWithoutDrift) {
   const std::vector<cv::Mat> frames = ReadFrames("video/d3.mp4", 120);
   ASSERT_EQ(frames.size(), 120u);
   const Camera camera = Camera::Default(frames[0].cols, frames[0].rows);
-  FaceTracker tracker = MakeTracker();
-  FaceTracker still = MakeTracker();
+  FaceTracker tracker = MakeFaceTracker();
+  FaceTracker still = MakeFaceTracker();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const std::vector<Face> faces = tracker.TrackFrame(frames[i], i / 30.0, camera);
     ASSERT_EQ(faces.size(), 1u) << "frame " << i;
@@ -98,8 +93,8 @@ TEST(FaceTrackerTest, SmoothingRemovesJitterWithoutLagging) {
   const Camera camera = Camera::Default(frames[0].cols, frames[0].rows);
   FaceTrackerOptions raw_options;
   raw_options.smooth = false;
-  FaceTracker raw_tracker = MakeTracker(raw_options);
-  FaceTracker smooth_tracker = MakeTracker();
+  FaceTracker raw_tracker = MakeFaceTracker(raw_options);
+  FaceTracker smooth_tracker = MakeFaceTracker();
   std::vector<Landmarks68> raw, smooth;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     raw.push_back(raw_tracker.TrackFrame(frames[i], i / 30.0, camera).at(0).landmarks);
@@ -131,7 +126,7 @@ TEST(FaceTrackerTest, DropsALostFaceAndFindsTheNextWithANewId) {
     frames.push_back(padded);
   }
   const Camera camera = Camera::Default(frames[0].cols, frames[0].rows);
-  FaceTracker tracker = MakeTracker();
+  FaceTracker tracker = MakeFaceTracker();
   std::vector<std::size_t> counts;
   std::vector<int> ids;
   for (std::size_t i = 0; i < frames.size(); ++i) {

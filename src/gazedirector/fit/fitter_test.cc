@@ -5,19 +5,14 @@
 
 #include <gtest/gtest.h>
 
-#include "gazedirector/face/face_tracker.h"
 #include "gazedirector/fit/landmark_model.h"
-#include "gazedirector/io/image_io.h"
 #include "gazedirector/render/renderer.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
 namespace {
 
-std::shared_ptr<const EyeRegionModel> Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return model;
-}
+using testing::SharedModel;
 
 FitOptions EyePatchOptions() {
   FitOptions options;
@@ -36,8 +31,8 @@ cv::Mat RenderEyePatch(const Fitter& fitter, double head_yaw, double pitch, doub
   phi.gaze_yaw() = yaw;
   // Framed as the crops are: the mean of the eye's six landmarks at the centre.
   const Camera camera = Fitter::EyePatchCamera(size);
-  const LandmarkModel centre = LandmarkModel(*Model()).EyeCentre(kLeftEye);
-  Renderer renderer(Model());
+  const LandmarkModel centre = LandmarkModel(*SharedModel()).EyeCentre(kLeftEye);
+  Renderer renderer(SharedModel());
   renderer.set_eyes(true, false);
   for (int pass = 0; pass < 3; ++pass) {
     renderer.Pose(phi);
@@ -64,7 +59,7 @@ TEST_P(SyntheticEyePatchTest, RecoversTheRenderedGaze) {
   const SyntheticCase c = GetParam();
   FitOptions options = EyePatchOptions();
   options.free[LayoutOf(Block::kRotation).offset + 1] = false;  // the head's yaw is given
-  Fitter fitter(Model(), options);
+  Fitter fitter(SharedModel(), options);
   const cv::Mat crop = RenderEyePatch(fitter, c.head_yaw, c.pitch, c.yaw);
   const FitResult fit = fitter.FitEyePatchAt(crop, kLeftEye, 0, 0, 0.76, c.head_yaw);
   EXPECT_NEAR(fit.phi.gaze_pitch(), c.pitch, 2.0);
@@ -87,20 +82,16 @@ INSTANTIATE_TEST_SUITE_P(Gazes, SyntheticEyePatchTest,
 // A refit of a video's face starts afresh from the landmarks but keeps what
 // the options hold (its settled shape and texture) at the values given.
 TEST(FitterTest, ARefitKeepsTheHeldParametersAndFindsTheGaze) {
-  const cv::Mat image = ReadImage(testing::DataPath("images/d30.jpg"));
-  const Camera camera = Camera::Default(image.cols, image.rows);
-  FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
-  const std::vector<Face> faces = tracker.DetectFaces(image, camera);
-  ASSERT_EQ(faces.size(), 1u);
-  Fitter fitter(Model());
-  const FitResult first = fitter.FitFace(image, camera, faces[0]);
+  const testing::FittedStill& still = testing::FitStill("images/d30.jpg");
+  ASSERT_EQ(still.faces.size(), 1u);
+  const FitResult& first = still.fit;
   ASSERT_TRUE(first.good) << first.note;
   ASSERT_GT(first.phi.shape().norm(), 0.5);  // far enough from the mean to tell
 
   FitOptions holding;
   Hold(holding.free, {Block::kShape, Block::kTexture});
-  fitter.options() = holding;
-  const FitResult refit = fitter.RefitFace(image, camera, faces[0], first.phi);
+  Fitter fitter(SharedModel(), holding);
+  const FitResult refit = fitter.RefitFace(still.image, still.camera, still.faces[0], first.phi);
   EXPECT_EQ(refit.phi.shape(), first.phi.shape());
   EXPECT_EQ(refit.phi.texture(), first.phi.texture());
   EXPECT_TRUE(refit.good) << refit.note;

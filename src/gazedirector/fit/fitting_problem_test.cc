@@ -12,10 +12,7 @@
 namespace gazedirector {
 namespace {
 
-std::shared_ptr<const EyeRegionModel> Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return model;
-}
+using testing::SharedModel;
 
 // A real Columbia crop of the image-left eye (the model's right eye), set up
 // as an eye-patch fit sets it up, at the crop's own resolution.
@@ -26,11 +23,11 @@ struct CropProblem {
     cv::cvtColor(crop, rgb, cv::COLOR_BGR2RGB);
     rgb.convertTo(rgb, CV_32FC3, 1.0 / 255.0);
     const Camera camera = Fitter::EyePatchCamera(crop.size());
-    const LandmarkModel framing = LandmarkModel(*Model()).EyeCentre(kRightEye);
-    problem = std::make_unique<FittingProblem>(Model(), rgb, camera, framing,
+    const LandmarkModel framing = LandmarkModel(*SharedModel()).EyeCentre(kRightEye);
+    problem = std::make_unique<FittingProblem>(SharedModel(), rgb, camera, framing,
                                                std::vector<Eigen::Vector2d>{{camera.cx, camera.cy}},
                                                std::vector<double>{1.0}, EnergyWeights{}, std::array<bool, 2>{false, true});
-    Fitter fitter(Model());
+    Fitter fitter(SharedModel());
     phi = fitter.EyePatchStart(crop.size(), kRightEye);
     // A gaze other than the photo's, with the lids left behind: every term of
     // the energy is then at work.
@@ -50,7 +47,7 @@ TEST(FittingProblemTest, ResidualsSquareToTheEnergy) {
   for (double eyeball_weight : {1.0, 3.0}) {
     CropProblem crop;
     crop.problem->weights().eyeball_pixels = eyeball_weight;
-    EvaluationWorkspace work(Model());
+    EvaluationWorkspace work(SharedModel());
     const EnergyTerms terms = crop.problem->Evaluate(crop.phi, work, nullptr);
     ASSERT_GT(terms.foreground, 1000);
     crop.problem->SetDomain(work.buffers, 2);
@@ -72,7 +69,7 @@ TEST(FittingProblemTest, TheTruncationCapsEveryPixel) {
   CropProblem crop;
   const double eyeball_weight = 2.0;
   crop.problem->weights().eyeball_pixels = eyeball_weight;
-  EvaluationWorkspace work(Model());
+  EvaluationWorkspace work(SharedModel());
   const EnergyTerms terms = crop.problem->Evaluate(crop.phi, work, nullptr);
   crop.problem->SetDomain(work.buffers, 2);
   Eigen::VectorXf residuals;
@@ -90,7 +87,7 @@ TEST(FittingProblemTest, TheTruncationCapsEveryPixel) {
 // The domain is the render's footprint grown by the margin, in raster order.
 TEST(FittingProblemTest, TheDomainHoldsTheRenderAndItsMargin) {
   CropProblem crop;
-  EvaluationWorkspace work(Model());
+  EvaluationWorkspace work(SharedModel());
   crop.problem->Evaluate(crop.phi, work, nullptr);
   crop.problem->SetDomain(work.buffers, 0);
   EXPECT_EQ(crop.problem->domain(), work.buffers.foreground);

@@ -5,17 +5,12 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "gazedirector/face/face_tracker.h"
-#include "gazedirector/io/image_io.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
 namespace {
 
-const EyeRegionModel& Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return *model;
-}
+using testing::SharedModel;
 
 // dlib's corners of each model eye: inner, outer (the model's left eye is the
 // subject's left, on the image right).
@@ -27,17 +22,15 @@ constexpr int kCorners[2][2] = {{42, 45}, {39, 36}};
 // 63 mm keep a residual of a few per cent of their interocular distance; a
 // swapped eye or corner would miss by half of it.
 TEST(InitializationTest, TheModelsEyeCornersLandOnTheLandmarkedCorners) {
-  FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
   for (const char* photo : {"images/d30.jpg", "images/d19.jpg", "images/s42.jpg"}) {
-    const cv::Mat image = ReadImage(testing::DataPath(photo));
-    const Camera camera = Camera::Default(image.cols, image.rows);
-    const std::vector<Face> faces = tracker.DetectFaces(image, camera);
-    ASSERT_EQ(faces.size(), 1u) << photo;
-    const Face& face = faces[0];
-    const Parameters phi = InitializeFromLandmarks(face, camera, Model());
+    const testing::DetectedStill still = testing::DetectStill(photo);
+    ASSERT_EQ(still.faces.size(), 1u) << photo;
+    const Face& face = still.faces[0];
+    const Camera& camera = still.camera;
+    const Parameters phi = InitializeFromLandmarks(face, camera, *SharedModel());
     double squared = 0;
     for (int eye = 0; eye < 2; ++eye) {
-      const auto corners = ModelEyeCorners(phi, Model(), eye);
+      const auto corners = ModelEyeCorners(phi, *SharedModel(), eye);
       for (int corner = 0; corner < 2; ++corner) {
         squared += (camera.Project(corners[corner]) - face.landmarks[kCorners[eye][corner]]).squaredNorm();
       }
@@ -63,12 +56,12 @@ TEST(InitializationTest, TheCornerFitRecoversAKnownTranslation) {
   truth.block<Block::kTranslation>() = Eigen::Vector3d(12, -8, 450);
   std::vector<CornerTarget> targets;
   for (int eye = 0; eye < 2; ++eye) {
-    const auto corners = ModelEyeCorners(truth, Model(), eye);
+    const auto corners = ModelEyeCorners(truth, *SharedModel(), eye);
     for (int corner = 0; corner < 2; ++corner) targets.push_back({eye, corner, camera.Project(corners[corner])});
   }
   Parameters start = truth;
   start.block<Block::kTranslation>() += Eigen::Vector3d(-15, 10, 35);
-  const Eigen::Vector3d found = FitTranslationToCorners(start, Model(), camera, targets);
+  const Eigen::Vector3d found = FitTranslationToCorners(start, *SharedModel(), camera, targets);
   EXPECT_LT((found - truth.translation()).norm(), 0.01) << found.transpose();
 }
 

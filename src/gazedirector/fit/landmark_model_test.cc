@@ -5,24 +5,18 @@
 
 #include <gtest/gtest.h>
 
-#include "gazedirector/face/face_tracker.h"
-#include "gazedirector/fit/fitter.h"
-#include "gazedirector/io/image_io.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
 namespace {
 
-std::shared_ptr<const EyeRegionModel> Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return model;
-}
+using testing::SharedModel;
 
 // The 24 landmarks the energy compares: each a distinct dlib point, each an
 // affine combination of vertices (weights summing to one, so the landmark
 // moves with the mesh as a point on it does), the lid points of one eye only.
 TEST(LandmarkModelTest, TwentyFourDistinctPointsEachAnAffineCombinationOfVertices) {
-  const LandmarkModel landmarks(*Model());
+  const LandmarkModel landmarks(*SharedModel());
   ASSERT_EQ(landmarks.landmarks().size(), 24u);
   std::set<int> indices;
   std::map<LandmarkGroup, int> groups;
@@ -48,14 +42,14 @@ TEST(LandmarkModelTest, TwentyFourDistinctPointsEachAnAffineCombinationOfVertice
 // The eye-centre point that frames an eye-patch fit is the mean of that
 // eye's six lid and corner landmarks.
 TEST(LandmarkModelTest, TheEyeCentreIsTheMeanOfTheEyesSixLandmarks) {
-  const LandmarkModel landmarks(*Model());
+  const LandmarkModel landmarks(*SharedModel());
   Parameters phi;
   phi.block<Block::kTranslation>() = Eigen::Vector3d(5, -3, 400);
   phi.gaze_pitch() = -10;
   phi.eyelid_pitch() = -10;
   PosedModel posed;
   PoseWorkspace workspace;
-  Model()->Pose(phi, posed, workspace);
+  SharedModel()->Pose(phi, posed, workspace);
   const Camera camera = Camera::Default(640, 480);
   std::vector<Eigen::Vector2d> all, centre;
   landmarks.Project(posed, camera, all);
@@ -78,25 +72,21 @@ TEST(LandmarkModelTest, TheEyeCentreIsTheMeanOfTheEyesSixLandmarks) {
 // each within 4% of the interocular distance, where an upper lid point
 // matched to a lower one would be off by the eye's opening.
 TEST(LandmarkModelTest, AFittedFacesLidLandmarksSitOnTheTrackersOnes) {
-  const cv::Mat image = ReadImage(testing::DataPath("images/d30.jpg"));
-  const Camera camera = Camera::Default(image.cols, image.rows);
-  FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
-  const std::vector<Face> faces = tracker.DetectFaces(image, camera);
-  ASSERT_EQ(faces.size(), 1u);
-  Fitter fitter(Model());
-  const FitResult fit = fitter.FitFace(image, camera, faces[0]);
+  const testing::FittedStill& still = testing::FitStill("images/d30.jpg");
+  ASSERT_EQ(still.faces.size(), 1u);
+  const FitResult& fit = still.fit;
   ASSERT_TRUE(fit.good) << fit.note;
-  const LandmarkModel landmarks(*Model());
+  const LandmarkModel landmarks(*SharedModel());
   PosedModel posed;
   PoseWorkspace workspace;
-  Model()->Pose(fit.phi, posed, workspace);
+  SharedModel()->Pose(fit.phi, posed, workspace);
   std::vector<Eigen::Vector2d> projected;
-  landmarks.Project(posed, camera, projected);
-  const double interocular = faces[0].InterocularDistance();
+  landmarks.Project(posed, still.camera, projected);
+  const double interocular = still.faces[0].InterocularDistance();
   for (std::size_t k = 0; k < projected.size(); ++k) {
     const ModelLandmark& landmark = landmarks.landmarks()[k];
     if (landmark.group != LandmarkGroup::kEyelid) continue;
-    const double miss = (projected[k] - faces[0].landmarks[landmark.dlib_index]).norm();
+    const double miss = (projected[k] - still.faces[0].landmarks[landmark.dlib_index]).norm();
     EXPECT_LT(miss, 0.04 * interocular) << "dlib landmark " << landmark.dlib_index << ": " << miss << " px";
   }
 }

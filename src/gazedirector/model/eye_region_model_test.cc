@@ -10,10 +10,7 @@
 namespace gazedirector {
 namespace {
 
-const EyeRegionModel& Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return *model;
-}
+using testing::SharedModel;
 
 Parameters Frontal(double distance_mm = 500) {
   Parameters phi;
@@ -24,7 +21,7 @@ Parameters Frontal(double distance_mm = 500) {
 PosedModel Pose(const Parameters& phi) {
   PosedModel posed;
   PoseWorkspace work;
-  Model().Pose(phi, posed, work);
+  SharedModel()->Pose(phi, posed, work);
   return posed;
 }
 
@@ -63,11 +60,11 @@ TEST(EyeRegionModelTest, AReusedWorkspaceFollowsEveryChangeOfShape) {
   PosedModel reused;
   PoseWorkspace work;
   Parameters phi = Frontal();
-  Model().Pose(phi, reused, work);
+  SharedModel()->Pose(phi, reused, work);
   for (double beta : {2.0, -1.5, 0.0}) {
     phi.shape()[3] = beta;
     phi.gaze_pitch() = beta;
-    Model().Pose(phi, reused, work);
+    SharedModel()->Pose(phi, reused, work);
     const PosedModel fresh = Pose(phi);
     for (int part = 0; part < kNumParts; ++part) {
       EXPECT_EQ(reused.parts[part].positions, fresh.parts[part].positions) << "beta " << beta << ", part " << part;
@@ -151,8 +148,8 @@ TEST(EyeRegionModelTest, SkinNormalsFaceTheCameraAndEyeballsAreClosedSpheres) {
   const PosedModel posed = Pose(Frontal());
   // Around the eye opening the skin faces the camera (normal toward -z).
   int toward = 0;
-  for (int v : Model().opening_rim()) toward += posed.parts[kLeftSkin].normals(2, v) < 0;
-  EXPECT_EQ(toward, static_cast<int>(Model().opening_rim().size()));
+  for (int v : SharedModel()->opening_rim()) toward += posed.parts[kLeftSkin].normals(2, v) < 0;
+  EXPECT_EQ(toward, static_cast<int>(SharedModel()->opening_rim().size()));
   const Eigen::Matrix3Xf& ball = posed.parts[kLeftEyeball].positions;
   const Eigen::Vector3f centre = posed.eyes[kLeftEye].centre.cast<float>();
   for (Eigen::Index i = 0; i < ball.cols(); ++i) {

@@ -3,10 +3,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "gazedirector/face/face_tracker.h"
 #include "gazedirector/fit/face_fit.h"
-#include "gazedirector/fit/fitter.h"
-#include "gazedirector/io/image_io.h"
 #include "gazedirector/redirect/gaze_target.h"
 #include "tests/test_data.h"
 
@@ -23,17 +20,9 @@ struct FittedPhoto {
 // d30.jpg (a near-frontal portrait) with its model fitted, once per test binary.
 const FittedPhoto& Photo() {
   static const FittedPhoto photo = [] {
-    FittedPhoto p;
-    p.model = EyeRegionModel::Load(testing::TestAssets());
-    p.image = ReadImage(testing::DataPath("images/d30.jpg"));
-    p.camera = Camera::Default(p.image.cols, p.image.rows);
-    FaceTracker tracker(testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
-    const std::vector<Face> faces = tracker.DetectFaces(p.image, p.camera);
-    Fitter fitter(p.model);
-    const FitResult fit = fitter.FitFace(p.image, p.camera, faces.at(0));
-    EXPECT_TRUE(fit.good) << fit.note;
-    p.phi = fit.phi;
-    return p;
+    const testing::FittedStill& still = testing::FitStill("images/d30.jpg");
+    EXPECT_TRUE(still.fit.good) << still.fit.note;
+    return FittedPhoto{testing::SharedModel(), still.image, still.camera, still.fit.phi};
   }();
   return photo;
 }

@@ -8,10 +8,7 @@
 namespace gazedirector {
 namespace {
 
-std::shared_ptr<const EyeRegionModel> Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return model;
-}
+using testing::SharedModel;
 
 // The fitter crops the photo to these bounds, so every pixel the model
 // renders must lie inside them (the eyeballs sit behind the skin's opening).
@@ -25,7 +22,7 @@ TEST(ModelBoundsTest, TheRenderLiesWithinTheBoundsAndReachesTheirSides) {
     phi.block<Block::kTranslation>() = Eigen::Vector3d(-20, 10, 450);
     phi.block<Block::kRotation>() = Eigen::Vector3d(5, yaw, 0);
     phi.gaze_yaw() = -0.5 * yaw;
-    Renderer renderer(Model());
+    Renderer renderer(SharedModel());
     RenderBuffers buffers;
     renderer.Render(phi, camera, buffers);
     ASSERT_FALSE(buffers.foreground.empty());
@@ -52,10 +49,10 @@ TEST(ModelBoundsTest, AModelOutsideTheImageOrBehindTheCameraHasNoBounds) {
   PoseWorkspace workspace;
   Parameters phi;
   phi.block<Block::kTranslation>() = Eigen::Vector3d(2000, 0, 450);
-  Model()->Pose(phi, posed, workspace);
+  SharedModel()->Pose(phi, posed, workspace);
   EXPECT_TRUE(ModelBounds(posed, camera).empty());
   phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, -300);
-  Model()->Pose(phi, posed, workspace);
+  SharedModel()->Pose(phi, posed, workspace);
   EXPECT_TRUE(ModelBounds(posed, camera).empty());
 }
 

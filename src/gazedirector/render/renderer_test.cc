@@ -42,10 +42,7 @@ void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::f
 namespace gazedirector {
 namespace {
 
-std::shared_ptr<const EyeRegionModel> Model() {
-  static const auto model = EyeRegionModel::Load(testing::TestAssets());
-  return model;
-}
+using testing::SharedModel;
 
 // Both eye regions filling a 200x100 region, as when fitting.
 const Camera kCamera{600, 600, 99.5, 49.5, 200, 100};
@@ -56,7 +53,7 @@ Parameters Framed() {
 }
 
 TEST(RendererTest, RendersAreDeterministicBitForBit) {
-  Renderer first(Model()), second(Model());
+  Renderer first(SharedModel()), second(SharedModel());
   RenderBuffers a, b, c;
   Parameters phi = Framed();
   phi.gaze_yaw() = 7.3;
@@ -79,7 +76,7 @@ TEST(RendererTest, RendersAreDeterministicBitForBit) {
 // shown: the buffers match drawing them all, over gazes, head turns, lids and
 // distances (near enough for perspective to matter).
 TEST(RendererTest, CullingEyeballPatchesChangesNoPixel) {
-  Renderer culling(Model()), drawing_all(Model());
+  Renderer culling(SharedModel()), drawing_all(SharedModel());
   drawing_all.set_eyeball_culling(false);
   RenderBuffers culled, all;
   int renders = 0;
@@ -109,7 +106,7 @@ TEST(RendererTest, CullingEyeballPatchesChangesNoPixel) {
 }
 
 TEST(RendererTest, MaskAndPartIdsAgreeAndShowFourParts) {
-  Renderer renderer(Model());
+  Renderer renderer(SharedModel());
   RenderBuffers buffers;
   renderer.Render(Framed(), kCamera, buffers);
   const cv::Mat mask = buffers.MaskImage(), parts = buffers.PartImage();
@@ -137,7 +134,7 @@ TEST(RendererTest, MaskAndPartIdsAgreeAndShowFourParts) {
 }
 
 TEST(RendererTest, AttributesInterpolateLinearlyOnScreen) {
-  Renderer renderer(Model());
+  Renderer renderer(SharedModel());
   RenderBuffers buffers;
   renderer.Render(Framed(), kCamera, buffers);
   // The screen position of each vertex, interpolated, must give back each
@@ -151,7 +148,7 @@ TEST(RendererTest, AttributesInterpolateLinearlyOnScreen) {
       screen[part](1, i) = static_cast<float>(kCamera.fy * p(1, i) / p(2, i) + kCamera.cy);
     }
   }
-  const cv::Mat field = Renderer::InterpolateAttribute(buffers, *Model(), screen, 2);
+  const cv::Mat field = Renderer::InterpolateAttribute(buffers, *SharedModel(), screen, 2);
   for (int pixel : buffers.foreground) {
     const cv::Vec2f value = field.at<cv::Vec2f>(pixel / kCamera.width, pixel % kCamera.width);
     ASSERT_NEAR(value[0], pixel % kCamera.width, 0.04);
@@ -160,7 +157,7 @@ TEST(RendererTest, AttributesInterpolateLinearlyOnScreen) {
 }
 
 TEST(RendererTest, LightAndTintChangeColoursAsLambertianShadingPredicts) {
-  Renderer renderer(Model());
+  Renderer renderer(SharedModel());
   RenderBuffers bright, dim;
   Parameters phi = Framed();
   renderer.Render(phi, kCamera, bright);
@@ -174,7 +171,7 @@ TEST(RendererTest, LightAndTintChangeColoursAsLambertianShadingPredicts) {
 // The exact derivatives of colour for the linear appearance parameters
 // agree with central differences of two renders.
 TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {
-  Renderer renderer(Model());
+  Renderer renderer(SharedModel());
   RenderBuffers buffers, plus, minus;
   Parameters phi = Framed();
   phi.eyelid_pitch() = -12;  // the look-down texture blends in
@@ -207,7 +204,7 @@ TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {
 // Asking for some of the exact columns gives those columns of the full
 // matrix, in the order asked.
 TEST(RendererTest, LinearJacobianOfSomeParametersMatchesTheFullOne) {
-  Renderer renderer(Model());
+  Renderer renderer(SharedModel());
   RenderBuffers buffers;
   Parameters phi = Framed();
   phi.eyelid_pitch() = -12;
@@ -223,7 +220,7 @@ TEST(RendererTest, LinearJacobianOfSomeParametersMatchesTheFullOne) {
 }
 
 TEST(RendererTest, SteadyStateRenderingAllocatesNothing) {
-  Renderer renderer(Model());
+  Renderer renderer(SharedModel());
   RenderBuffers buffers;
   Parameters phi = Framed();
   renderer.Render(phi, kCamera, buffers);  // warm up: buffers reach their sizes

@@ -11,7 +11,7 @@ namespace gazedirector {
 namespace {
 
 TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
   VideoReader reader(testing::DataPath("video/d3.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
@@ -50,7 +50,7 @@ TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
 // most of frames 60-220, where a fresh fit of frame 200 finds the subject
 // looking near the camera.
 TEST(GazeTrackerTest, ATrackThatLosesTheIrisFindsItAgain) {
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
   VideoReader reader(testing::DataPath("video/d10.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
@@ -76,7 +76,7 @@ TEST(GazeTrackerTest, ATrackThatLosesTheIrisFindsItAgain) {
 // gaze is held at the last open frame's and the lids close; before, the fit
 // closed the lids by looking 25 degrees down and swung the yaw to its limit.
 TEST(GazeTrackerTest, ABlinkHoldsTheGazeAndClosesTheLids) {
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
@@ -116,7 +116,7 @@ TEST(GazeTrackerTest, ABlinkHoldsTheGazeAndClosesTheLids) {
 // and the warm fits that followed held them: the track read the open eyes of
 // frames 270-420 as looking 15-20 degrees down with the lids pulled open.
 TEST(GazeTrackerTest, ARefitKeepsTheSettledShapeAndTexture) {
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
@@ -143,7 +143,7 @@ TEST(GazeTrackerTest, ARefitKeepsTheSettledShapeAndTexture) {
 // against 0.023-0.027 for a fit with a shape of its own). Such frames now get
 // a shape of their own, and give it back when the usual one fits again.
 TEST(GazeTrackerTest, AWideEyedGlanceAsideIsNotTrackedAsRolledUp) {
-  const auto model = EyeRegionModel::Load(testing::TestAssets());
+  const auto model = testing::SharedModel();
   GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
