@@ -35,8 +35,13 @@ std::shared_ptr<const EyeRegionModel> SharedModel() {
   return model;
 }
 
+const MeanFace& SharedMeanFace() {
+  static const MeanFace mean_face = LoadMeanFace(TestAssets().mean_face());
+  return mean_face;
+}
+
 FaceTracker MakeFaceTracker(const FaceTrackerOptions& options) {
-  return FaceTracker(SharedLandmarkDetector(), LoadMeanFace(TestAssets().mean_face()), options);
+  return FaceTracker(SharedLandmarkDetector(), SharedMeanFace(), options);
 }
 
 DetectedStill DetectStill(const std::string& photo) {

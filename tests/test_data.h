@@ -8,6 +8,7 @@
 
 #include "gazedirector/face/face_tracker.h"
 #include "gazedirector/face/landmark_detector.h"
+#include "gazedirector/face/mean_face.h"
 #include "gazedirector/fit/fitter.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/model/eye_region_model.h"
@@ -22,6 +23,8 @@ const Assets& TestAssets();
 std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector();
 // The eye-region model, loaded once per test binary.
 std::shared_ptr<const EyeRegionModel> SharedModel();
+// The assets' 3D mean face, read once per test binary.
+const MeanFace& SharedMeanFace();
 // A fresh face tracker on the shared landmark model and the assets' mean face.
 FaceTracker MakeFaceTracker(const FaceTrackerOptions& options = {});
 

@@ -9,7 +9,7 @@ namespace gazedirector {
 namespace {
 
 TEST(HeadPoseTest, RecoversThePoseOfAProjectedMeanFace) {
-  const MeanFace mean_face = LoadMeanFace(testing::TestAssets().mean_face());
+  const MeanFace& mean_face = testing::SharedMeanFace();
   const Camera camera = Camera::Default(640, 480);
   HeadPose truth;
   truth.rotation = RotationFromEulerXYZ({DegToRad(-10), DegToRad(25), DegToRad(5)});
@@ -26,7 +26,7 @@ TEST(HeadPoseTest, RecoversThePoseOfAProjectedMeanFace) {
 TEST(HeadPoseTest, FrontalFaceHasIdentityRotationAndEulerRoundTrips) {
   const Eigen::Vector3d angles(0.3, -0.2, 0.1);
   EXPECT_LT((EulerXYZFromRotation(RotationFromEulerXYZ(angles)) - angles).norm(), 1e-12);
-  const MeanFace mean_face = LoadMeanFace(testing::TestAssets().mean_face());
+  const MeanFace& mean_face = testing::SharedMeanFace();
   // In the head frame the subject's left eye (42-47) is at +x and the brows above (-y) the eyes.
   EXPECT_GT(mean_face[45].x(), mean_face[36].x());
   EXPECT_LT(mean_face[19].y(), mean_face[37].y());

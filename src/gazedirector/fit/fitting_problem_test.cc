@@ -35,6 +35,22 @@ struct CropProblem {
     phi.gaze_yaw() = 8;
   }
 
+  // Evaluates at Φ, makes that render's footprint and a 2 px margin the
+  // domain (as each Gauss-Newton step does), and evaluates again for the
+  // residuals.
+  struct OnItsDomain {
+    EnergyTerms first;  // before the domain was set
+    EnergyTerms terms;
+    Eigen::VectorXf residuals;
+  };
+  OnItsDomain EvaluateOnItsDomain(EvaluationWorkspace& work) const {
+    OnItsDomain result;
+    result.first = problem->Evaluate(phi, work, nullptr);
+    problem->SetDomain(work.buffers, 2);
+    result.terms = problem->Evaluate(phi, work, &result.residuals);
+    return result;
+  }
+
   std::unique_ptr<FittingProblem> problem;
   Parameters phi;
 };
@@ -48,12 +64,11 @@ TEST(FittingProblemTest, ResidualsSquareToTheEnergy) {
     CropProblem crop;
     crop.problem->weights().eyeball_pixels = eyeball_weight;
     EvaluationWorkspace work(SharedModel());
-    const EnergyTerms terms = crop.problem->Evaluate(crop.phi, work, nullptr);
+    const CropProblem::OnItsDomain evaluated = crop.EvaluateOnItsDomain(work);
+    const EnergyTerms& terms = evaluated.first;
+    const Eigen::VectorXf& residuals = evaluated.residuals;
     ASSERT_GT(terms.foreground, 1000);
-    crop.problem->SetDomain(work.buffers, 2);
-    Eigen::VectorXf residuals;
-    const EnergyTerms again = crop.problem->Evaluate(crop.phi, work, &residuals);
-    EXPECT_EQ(again.total(), terms.total());
+    EXPECT_EQ(evaluated.terms.total(), terms.total());
     ASSERT_EQ(residuals.size(), crop.problem->num_residuals());
     EXPECT_NEAR(residuals.cast<double>().squaredNorm(), terms.total(), 1e-5 * terms.total()) << "eyeball weight " << eyeball_weight;
     const double image = residuals.head(crop.problem->num_image_residuals()).cast<double>().squaredNorm();
@@ -70,10 +85,9 @@ TEST(FittingProblemTest, TheTruncationCapsEveryPixel) {
   const double eyeball_weight = 2.0;
   crop.problem->weights().eyeball_pixels = eyeball_weight;
   EvaluationWorkspace work(SharedModel());
-  const EnergyTerms terms = crop.problem->Evaluate(crop.phi, work, nullptr);
-  crop.problem->SetDomain(work.buffers, 2);
-  Eigen::VectorXf residuals;
-  crop.problem->Evaluate(crop.phi, work, &residuals);
+  const CropProblem::OnItsDomain evaluated = crop.EvaluateOnItsDomain(work);
+  const EnergyTerms& terms = evaluated.first;
+  const Eigen::VectorXf& residuals = evaluated.residuals;
   const double cap = crop.problem->weights().truncation / terms.foreground;
   int capped = 0;
   for (int d = 0; d < static_cast<int>(crop.problem->domain().size()); ++d) {

@@ -5,13 +5,6 @@
 #include "gazedirector/model/eye_region_topology.h"
 
 namespace gazedirector {
-namespace {
-
-// dlib's landmark indices of each eye's inner and outer corner.
-constexpr int kCornerLandmarks[2][2] = {{42, 45}, {39, 36}};
-
-}  // namespace
-
 std::array<Eigen::Vector3d, 2> ModelEyeCorners(const Parameters& phi, const EyeRegionModel& model, int eye) {
   const Eigen::Matrix3d to_head = EyeRegionModel::ModelToHead(eye);
   const Eigen::Vector3d centre = EyeRegionModel::EyeCentreInHead(phi, eye);

@@ -8,6 +8,9 @@
 namespace gazedirector {
 
 inline constexpr double kAverageInterocularMm = 63.0;
+// The dlib landmarks of each model eye's corners: [eye][0 inner, 1 outer]
+// (the model's left eye is the subject's left, on the image right).
+inline constexpr int kCornerLandmarks[2][2] = {{42, 45}, {39, 36}};
 
 // The paper's initialisation from facial landmarks: the eye regions take the
 // head's rotation, their translation is fitted so that the model's eye

@@ -12,10 +12,6 @@ namespace {
 
 using testing::SharedModel;
 
-// dlib's corners of each model eye: inner, outer (the model's left eye is the
-// subject's left, on the image right).
-constexpr int kCorners[2][2] = {{42, 45}, {39, 36}};
-
 // The paper's initialisation on real faces: the model's four eye corners land
 // on the landmarked ones. Only the translation is fitted, at the average
 // interocular distance, so people whose eyes sit wider or closer apart than
@@ -32,7 +28,7 @@ TEST(InitializationTest, TheModelsEyeCornersLandOnTheLandmarkedCorners) {
     for (int eye = 0; eye < 2; ++eye) {
       const auto corners = ModelEyeCorners(phi, *SharedModel(), eye);
       for (int corner = 0; corner < 2; ++corner) {
-        squared += (camera.Project(corners[corner]) - face.landmarks[kCorners[eye][corner]]).squaredNorm();
+        squared += (camera.Project(corners[corner]) - face.landmarks[kCornerLandmarks[eye][corner]]).squaredNorm();
       }
     }
     const double rms = std::sqrt(squared / 4);

@@ -10,19 +10,14 @@
 namespace gazedirector {
 namespace {
 
-struct FittedPhoto {
-  std::shared_ptr<const EyeRegionModel> model;
-  cv::Mat image;
-  Camera camera;
-  Parameters phi;
-};
+using testing::SharedModel;
 
 // d30.jpg (a near-frontal portrait) with its model fitted, once per test binary.
-const FittedPhoto& Photo() {
-  static const FittedPhoto photo = [] {
+const testing::FittedStill& Photo() {
+  static const testing::FittedStill& photo = []() -> const testing::FittedStill& {
     const testing::FittedStill& still = testing::FitStill("images/d30.jpg");
     EXPECT_TRUE(still.fit.good) << still.fit.note;
-    return FittedPhoto{testing::SharedModel(), still.image, still.camera, still.fit.phi};
+    return still;
   }();
   return photo;
 }
@@ -49,10 +44,10 @@ cv::Point2d DarkCentroid(const cv::Mat& image, const cv::Mat& mask) {
 }
 
 TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
-  const FittedPhoto& p = Photo();
-  Redirector redirector(p.model);
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
   cv::Mat result = p.image.clone();
-  const RedirectReport report = redirector.Redirect(result, p.camera, p.phi, p.phi);
+  const RedirectReport report = redirector.Redirect(result, p.camera, p.fit.phi, p.fit.phi);
   ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
   cv::Mat outside = cv::Mat::ones(p.image.size(), CV_8UC1) * 255;
   outside(report.region).setTo(0);
@@ -68,13 +63,13 @@ TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
 }
 
 TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
-  const FittedPhoto& p = Photo();
-  Redirector redirector(p.model);
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
   RedirectLayers still_layers, moved_layers;
   cv::Mat still = p.image.clone(), moved = p.image.clone();
-  const Parameters target = Retarget(p.phi, GazeTarget::Offset(0, 15));  // toward the subject's left: image right
-  redirector.Redirect(still, p.camera, p.phi, p.phi, &still_layers);
-  const RedirectReport report = redirector.Redirect(moved, p.camera, p.phi, target, &moved_layers);
+  const Parameters target = Retarget(p.fit.phi, GazeTarget::Offset(0, 15));  // toward the subject's left: image right
+  redirector.Redirect(still, p.camera, p.fit.phi, p.fit.phi, &still_layers);
+  const RedirectReport report = redirector.Redirect(moved, p.camera, p.fit.phi, target, &moved_layers);
   ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
   // Over the same pixels before and after: the eye openings of both.
   cv::Mat both;
@@ -90,7 +85,7 @@ TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts)
   // The model's own prediction: the mean image motion of the two iris centres
   // (10.5 mm in front of the eyeball centres).
   double predicted = 0;
-  const std::array<EyeGaze, 2> from = EyeGazes(p.phi), to = EyeGazes(target);
+  const std::array<EyeGaze, 2> from = EyeGazes(p.fit.phi), to = EyeGazes(target);
   for (int eye = 0; eye < 2; ++eye) {
     predicted += 0.5 * (p.camera.Project(to[eye].centre + 10.5 * to[eye].gaze) -
                         p.camera.Project(from[eye].centre + 10.5 * from[eye].gaze)).x();
@@ -128,11 +123,11 @@ Tone ToneUnder(const cv::Mat& image, const cv::Mat& mask, double dark) {
 // sclera, not like the pink periphery of the eyeball texture, the skin a
 // slightly wide fit let in, or the lashes' shade dragged across the white.
 TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
-  const FittedPhoto& p = Photo();
-  Redirector redirector(p.model);
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
   RedirectLayers still_layers;
   cv::Mat still = p.image.clone();
-  const RedirectReport at_rest = redirector.Redirect(still, p.camera, p.phi, p.phi, &still_layers);
+  const RedirectReport at_rest = redirector.Redirect(still, p.camera, p.fit.phi, p.fit.phi, &still_layers);
   cv::Mat shown;
   cv::erode(still_layers.sclera_mask, shown, cv::Mat());
   const Tone photo = ToneUnder(p.image(at_rest.region), shown, 0);
@@ -140,7 +135,8 @@ TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
   for (double yaw : {-40.0, 40.0}) {
     RedirectLayers layers;
     cv::Mat turned = p.image.clone();
-    const RedirectReport report = redirector.Redirect(turned, p.camera, p.phi, Retarget(p.phi, GazeTarget::Offset(0, yaw)), &layers);
+    const RedirectReport report =
+        redirector.Redirect(turned, p.camera, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(0, yaw)), &layers);
     ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
     cv::Mat inner;
     cv::erode(layers.sclera_mask, inner, cv::Mat(), cv::Point(-1, -1), 2);
@@ -155,9 +151,9 @@ TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
 }
 
 TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
-  const FittedPhoto& p = Photo();
-  Redirector redirector(p.model);
-  Parameters closed = p.phi;
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
+  Parameters closed = p.fit.phi;
   closed.eyelid_closure() = 35;
   cv::Mat result = p.image.clone();
   const RedirectReport report = redirector.Redirect(result, p.camera, closed, Retarget(closed, GazeTarget::Offset(0, 20)));
@@ -167,11 +163,11 @@ TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
 }
 
 TEST(RedirectorTest, TheEyelidWarpFollowsTheGaze) {
-  const FittedPhoto& p = Photo();
-  Redirector redirector(p.model);
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
   RedirectLayers layers;
   cv::Mat result = p.image.clone();
-  redirector.Redirect(result, p.camera, p.phi, Retarget(p.phi, GazeTarget::Offset(-15, 0)), &layers);
+  redirector.Redirect(result, p.camera, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(-15, 0)), &layers);
   // Looking down lowers the upper lids: their skin comes from above (negative y flow... the
   // source lies above the output pixel), so the mean vertical flow over the skin is negative.
   double flow_y = 0;

@@ -12,7 +12,7 @@ namespace {
 
 TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
   const auto model = testing::SharedModel();
-  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
   VideoReader reader(testing::DataPath("video/d3.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   cv::Mat frame;
@@ -51,7 +51,7 @@ TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
 // looking near the camera.
 TEST(GazeTrackerTest, ATrackThatLosesTheIrisFindsItAgain) {
   const auto model = testing::SharedModel();
-  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
   VideoReader reader(testing::DataPath("video/d10.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   constexpr int kLast = 200;
@@ -65,7 +65,7 @@ TEST(GazeTrackerTest, ATrackThatLosesTheIrisFindsItAgain) {
     if (std::abs(last.fit.phi.gaze_yaw()) > 49.9 || std::abs(last.fit.phi.gaze_pitch()) > 39.9) ++at_limit;
   }
   EXPECT_LT(at_limit, 10);  // 0 now (18 before frames at a bound got a shape of their own); 95 without the jumps, colours free
-  GazeTracker still(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  GazeTracker still(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
   const std::vector<FaceFit> fresh = still.ProcessImage(frame, camera);
   ASSERT_EQ(fresh.size(), 1u);
   EXPECT_NEAR(last.fit.phi.gaze_yaw(), fresh[0].fit.phi.gaze_yaw(), 10.0);
@@ -77,7 +77,7 @@ TEST(GazeTrackerTest, ATrackThatLosesTheIrisFindsItAgain) {
 // closed the lids by looking 25 degrees down and swung the yaw to its limit.
 TEST(GazeTrackerTest, ABlinkHoldsTheGazeAndClosesTheLids) {
   const auto model = testing::SharedModel();
-  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   std::vector<FaceFit> track;
@@ -117,7 +117,7 @@ TEST(GazeTrackerTest, ABlinkHoldsTheGazeAndClosesTheLids) {
 // frames 270-420 as looking 15-20 degrees down with the lids pulled open.
 TEST(GazeTrackerTest, ARefitKeepsTheSettledShapeAndTexture) {
   const auto model = testing::SharedModel();
-  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   const int settle = GazeTrackerOptions().settle_frames;
@@ -144,7 +144,7 @@ TEST(GazeTrackerTest, ARefitKeepsTheSettledShapeAndTexture) {
 // a shape of their own, and give it back when the usual one fits again.
 TEST(GazeTrackerTest, AWideEyedGlanceAsideIsNotTrackedAsRolledUp) {
   const auto model = testing::SharedModel();
-  GazeTracker tracker(model, testing::SharedLandmarkDetector(), LoadMeanFace(testing::TestAssets().mean_face()));
+  GazeTracker tracker(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
   VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   constexpr int kFirst = 200, kGlanceFirst = 220, kGlanceLast = 260, kBack = 300;
