@@ -141,6 +141,11 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   const nlohmann::json result = nlohmann::json::parse(output.substr(output.find('{')));
   EXPECT_DOUBLE_EQ(result["fit_options"]["truncation"].get<double>(), 0.07);
   EXPECT_EQ(result["fit_options"]["work_width"].get<int>(), 128);  // the 64 px crops, resampled
+  // Photos 1, 11 and 21 of 0013's 21 at head pose 0, both eyes: the face's figures count photos.
+  EXPECT_EQ(result["photos"].get<int>(), 3);
+  EXPECT_EQ(result["crops"].get<int>(), 6);
+  EXPECT_EQ(result["one_eye"]["crops"].get<int>(), 6);
+  EXPECT_EQ(result["by_head_pose"]["0"]["photos"].get<int>(), 3);
   std::ifstream csv(dir / "crops.csv");
   std::string line;
   std::getline(csv, line);  // header

@@ -85,8 +85,9 @@ PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates, GazeFrame 
   return summaries;
 }
 
-nlohmann::json ToJson(const ErrorSummary& s) {
-  return {{"crops", s.count},
+// `counted` names what the summary counts: "photos" (the face's gaze) or "crops" (one eye).
+nlohmann::json ToJson(const ErrorSummary& s, const std::string& counted) {
+  return {{counted, s.count},
           {"yaw_mean_deg", RoundTo(s.yaw_mean, 3)},
           {"yaw_median_deg", RoundTo(s.yaw_median, 3)},
           {"pitch_mean_deg", RoundTo(s.pitch_mean, 3)},
@@ -208,19 +209,19 @@ int RunColumbiaEval(const EvalOptions& options) {
   }
   if (options.json) {
     // The headline figures are the faces' gazes (both eyes) relative to the head, as the paper's.
-    nlohmann::json result = ToJson(by_photo.all);
-    result["photos"] = photos.size();
-    result["one_eye"] = ToJson(by_crop.all);
-    result["camera_frame"] = ToJson(by_photo_camera.all);
+    nlohmann::json result = ToJson(by_photo.all, "photos");
+    result["crops"] = fits.size();
+    result["one_eye"] = ToJson(by_crop.all, "crops");
+    result["camera_frame"] = ToJson(by_photo_camera.all, "photos");
     result["fits_per_s"] = RoundTo(fits_per_s, 2);
     result["threads"] = options.threads;
     result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
     result["fit_options"] = FitOptionsToJson(fit_options);
     for (const auto& [pose, summary] : by_photo.by_pose) {
       nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
-      entry = ToJson(summary);
-      entry["one_eye"] = ToJson(by_crop.by_pose.at(pose));
-      entry["camera_frame"] = ToJson(by_photo_camera.by_pose.at(pose));
+      entry = ToJson(summary, "photos");
+      entry["one_eye"] = ToJson(by_crop.by_pose.at(pose), "crops");
+      entry["camera_frame"] = ToJson(by_photo_camera.by_pose.at(pose), "photos");
     }
     fmt::print("{}\n", result.dump());
     return 0;
