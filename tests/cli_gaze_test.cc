@@ -8,6 +8,7 @@
 
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/video_reader.h"
+#include "gazedirector/util/statistics.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
@@ -150,11 +151,19 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   std::string line;
   std::getline(csv, line);  // header
   int rows = 0;
+  std::vector<double> zero_pitch_errors;  // the always-zero predictor errs by the label
   while (std::getline(csv, line)) {
     EXPECT_EQ(line.substr(0, 5), "0013_") << line;
+    std::vector<std::string> fields;
+    std::stringstream row(line);
+    for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+    ASSERT_GT(fields.size(), 3u) << line;
+    zero_pitch_errors.push_back(std::abs(std::stod(fields[3])));  // label_pitch
     ++rows;
   }
   EXPECT_EQ(rows, 6);  // photos 1, 11 and 21 of 0013's 21 at head pose 0, both eyes
+  // Each photo's two rows carry the same label, so the rows' median is the photos'.
+  EXPECT_DOUBLE_EQ(result["zero_pitch_median_deg"].get<double>(), Median(zero_pitch_errors));
   EXPECT_EQ(RunCli("eval columbia --subjects 0007 --exclude-subjects 0007", &output), 4) << output;  // bad input
   EXPECT_NE(output.find("no crops"), std::string::npos) << output;
 }

@@ -53,7 +53,7 @@ struct ErrorSummary {
   int count = 0;
   double yaw_mean = 0, yaw_median = 0, pitch_mean = 0, pitch_median = 0;
   // the always-zero predictor: straight ahead in the head, or into the camera
-  double zero_yaw_mean = 0, zero_pitch_mean = 0;
+  double zero_yaw_mean = 0, zero_yaw_median = 0, zero_pitch_mean = 0, zero_pitch_median = 0;
 };
 
 template <typename Estimate>
@@ -66,7 +66,8 @@ ErrorSummary Summarise(const std::vector<const Estimate*>& estimates, GazeFrame 
     zero_yaw.push_back(std::abs(label.y()));
     zero_pitch.push_back(std::abs(label.x()));
   }
-  return {static_cast<int>(estimates.size()), Mean(yaw), Median(yaw), Mean(pitch), Median(pitch), Mean(zero_yaw), Mean(zero_pitch)};
+  return {static_cast<int>(estimates.size()), Mean(yaw),         Median(yaw),       Mean(pitch),      Median(pitch),
+          Mean(zero_yaw),                      Median(zero_yaw), Mean(zero_pitch), Median(zero_pitch)};
 }
 
 // Overall and per head pose.
@@ -93,7 +94,9 @@ nlohmann::json ToJson(const ErrorSummary& s, const std::string& counted) {
           {"pitch_mean_deg", RoundTo(s.pitch_mean, 3)},
           {"pitch_median_deg", RoundTo(s.pitch_median, 3)},
           {"zero_yaw_mean_deg", RoundTo(s.zero_yaw_mean, 3)},
-          {"zero_pitch_mean_deg", RoundTo(s.zero_pitch_mean, 3)}};
+          {"zero_yaw_median_deg", RoundTo(s.zero_yaw_median, 3)},
+          {"zero_pitch_mean_deg", RoundTo(s.zero_pitch_mean, 3)},
+          {"zero_pitch_median_deg", RoundTo(s.zero_pitch_median, 3)}};
 }
 
 // Photometric energy and gaze error against the Gauss-Newton iteration:
@@ -227,11 +230,12 @@ int RunColumbiaEval(const EvalOptions& options) {
     return 0;
   }
   auto table = [](const PoseSummaries& summaries, const std::string& unit) {
-    fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>14} {:>14}\n", "head pose", unit, "yaw mean", "median",
-               "pitch mean", "median", "zero yaw mean", "zero pitch mean");
+    fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>15} {:>9}   {:>15} {:>9}\n", "head pose", unit, "yaw mean",
+               "median", "pitch mean", "median", "zero yaw mean", "median", "zero pitch mean", "median");
     auto row = [](const std::string& name, const ErrorSummary& s) {
-      fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>14.2f} {:>14.2f}\n", name, s.count, s.yaw_mean,
-                 s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_pitch_mean);
+      fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>15.2f} {:>9.2f}   {:>15.2f} {:>9.2f}\n", name,
+                 s.count, s.yaw_mean, s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_yaw_median,
+                 s.zero_pitch_mean, s.zero_pitch_median);
     };
     for (const auto& [pose, summary] : summaries.by_pose) row(std::to_string(pose), summary);
     row("all", summaries.all);
