@@ -147,6 +147,11 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_EQ(result["crops"].get<int>(), 6);
   EXPECT_EQ(result["one_eye"]["crops"].get<int>(), 6);
   EXPECT_EQ(result["by_head_pose"]["0"]["photos"].get<int>(), 3);
+  // Excluded subjects are not listed by subject either; one subject leaves the resampling no spread.
+  EXPECT_EQ(result["by_subject"].size(), 1u);
+  EXPECT_EQ(result["by_subject"]["0013"]["photos"].get<int>(), 3);
+  EXPECT_EQ(result["subject_resampling"]["subjects"].get<int>(), 1);
+  EXPECT_NEAR(result["subject_resampling"]["pitch_mean_p95_deg"].get<double>(), result["pitch_mean_deg"].get<double>(), 1e-3);
   std::ifstream csv(dir / "crops.csv");
   std::string line;
   std::getline(csv, line);  // header

@@ -86,6 +86,15 @@ PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates, GazeFrame 
   return summaries;
 }
 
+template <typename Estimate>
+std::map<std::string, ErrorSummary> SummariseBySubject(const std::vector<Estimate>& estimates, GazeFrame frame) {
+  std::map<std::string, std::vector<const Estimate*>> by_subject;
+  for (const Estimate& estimate : estimates) by_subject[estimate.crop.subject].push_back(&estimate);
+  std::map<std::string, ErrorSummary> summaries;
+  for (const auto& [subject, subset] : by_subject) summaries[subject] = Summarise(subset, frame);
+  return summaries;
+}
+
 // `counted` names what the summary counts: "photos" (the face's gaze) or "crops" (one eye).
 nlohmann::json ToJson(const ErrorSummary& s, const std::string& counted) {
   return {{counted, s.count},
@@ -185,6 +194,8 @@ int RunColumbiaEval(const EvalOptions& options) {
   const PoseSummaries by_photo = SummariseByPose(photos, GazeFrame::kHead);
   const PoseSummaries by_crop = SummariseByPose(fits, GazeFrame::kHead);
   const PoseSummaries by_photo_camera = SummariseByPose(photos, GazeFrame::kCamera);
+  const std::map<std::string, ErrorSummary> by_subject = SummariseBySubject(photos, GazeFrame::kHead);
+  const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead);
   const double fits_per_s = fits.size() / seconds;
 
   if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
@@ -220,6 +231,12 @@ int RunColumbiaEval(const EvalOptions& options) {
     result["threads"] = options.threads;
     result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
     result["fit_options"] = FitOptionsToJson(fit_options);
+    for (const auto& [subject, summary] : by_subject) result["by_subject"][subject] = ToJson(summary, "photos");
+    result["subject_resampling"] = {{"subjects", spread.subjects},
+                                    {"yaw_mean_p5_deg", RoundTo(spread.yaw_low, 3)},
+                                    {"yaw_mean_p95_deg", RoundTo(spread.yaw_high, 3)},
+                                    {"pitch_mean_p5_deg", RoundTo(spread.pitch_low, 3)},
+                                    {"pitch_mean_p95_deg", RoundTo(spread.pitch_high, 3)}};
     for (const auto& [pose, summary] : by_photo.by_pose) {
       nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
       entry = ToJson(summary, "photos");
@@ -229,26 +246,40 @@ int RunColumbiaEval(const EvalOptions& options) {
     fmt::print("{}\n", result.dump());
     return 0;
   }
-  auto table = [](const PoseSummaries& summaries, const std::string& unit) {
-    fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>15} {:>9}   {:>15} {:>9}\n", "head pose", unit, "yaw mean",
+  using Rows = std::vector<std::pair<std::string, ErrorSummary>>;
+  auto table = [](const Rows& rows, const ErrorSummary* all, const std::string& key,
+                  const std::string& unit) {
+    fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>15} {:>9}   {:>15} {:>9}\n", key, unit, "yaw mean",
                "median", "pitch mean", "median", "zero yaw mean", "median", "zero pitch mean", "median");
     auto row = [](const std::string& name, const ErrorSummary& s) {
       fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>15.2f} {:>9.2f}   {:>15.2f} {:>9.2f}\n", name,
                  s.count, s.yaw_mean, s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_yaw_median,
                  s.zero_pitch_mean, s.zero_pitch_median);
     };
-    for (const auto& [pose, summary] : summaries.by_pose) row(std::to_string(pose), summary);
-    row("all", summaries.all);
+    for (const auto& [name, summary] : rows) row(name, summary);
+    if (all) row("all", *all);
+  };
+  auto by_pose_table = [&table](const PoseSummaries& summaries, const std::string& unit) {
+    Rows rows;
+    for (const auto& [pose, summary] : summaries.by_pose) rows.emplace_back(std::to_string(pose), summary);
+    table(rows, &summaries.all, "head pose", unit);
   };
   fmt::print("gaze error on {} photos ({} crops) in {} (degrees)\n", photos.size(), fits.size(), dir.string());
   fmt::print("labels: relative to the camera (0V 0H looks into the lens at every head pose); in the head's frame\n"
              "they are turned by the head's yaw, -P\n");
   fmt::print("relative to the head, the face's gaze: the mean of both eyes' fits where both crops are there\n");
-  table(by_photo, "photos");
+  by_pose_table(by_photo, "photos");
   fmt::print("relative to the head, one eye: each crop on its own\n");
-  table(by_crop, "crops");
+  by_pose_table(by_crop, "crops");
   fmt::print("relative to the camera, the face's gaze (zero: looking into the lens)\n");
-  table(by_photo_camera, "photos");
+  by_pose_table(by_photo_camera, "photos");
+  fmt::print("relative to the head, the face's gaze, by subject\n");
+  table(Rows(by_subject.begin(), by_subject.end()), nullptr, "subject", "photos");
+  if (spread.subjects > 1) {
+    fmt::print("resampling the {} subjects (2000 draws with replacement), 5th-95th percentile of the mean: yaw "
+               "{:.2f}-{:.2f}, pitch {:.2f}-{:.2f}\n",
+               spread.subjects, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
+  }
   fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)" : "estimated from each crop");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
   if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);

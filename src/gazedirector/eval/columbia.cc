@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <random>
 #include <regex>
 #include <thread>
 
@@ -15,6 +16,7 @@
 #include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
+#include "gazedirector/util/statistics.h"
 #include "gazedirector/util/timer.h"
 
 namespace gazedirector {
@@ -93,6 +95,39 @@ std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits) {
                            photo.crop.Label(GazeFrame::kCamera));
   }
   return photos;
+}
+
+SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, GazeFrame frame, int draws,
+                                   unsigned seed) {
+  struct ErrorSums {
+    double yaw = 0, pitch = 0;
+    int photos = 0;
+  };
+  std::map<std::string, ErrorSums> by_subject;
+  for (const ColumbiaPhoto& photo : photos) {
+    ErrorSums& sums = by_subject[photo.crop.subject];
+    sums.yaw += photo.Reading(frame).yaw_error, sums.pitch += photo.Reading(frame).pitch_error, ++sums.photos;
+  }
+  std::vector<ErrorSums> subjects;
+  for (const auto& [subject, sums] : by_subject) subjects.push_back(sums);
+  SubjectResampling result;
+  result.subjects = static_cast<int>(subjects.size());
+  if (subjects.empty()) return result;
+  std::mt19937 random(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, subjects.size() - 1);
+  std::vector<double> yaw_means, pitch_means;
+  for (int draw = 0; draw < draws; ++draw) {
+    ErrorSums total;
+    for (std::size_t i = 0; i < subjects.size(); ++i) {
+      const ErrorSums& drawn = subjects[pick(random)];
+      total.yaw += drawn.yaw, total.pitch += drawn.pitch, total.photos += drawn.photos;
+    }
+    yaw_means.push_back(total.yaw / total.photos);
+    pitch_means.push_back(total.pitch / total.photos);
+  }
+  result.yaw_low = Quantile(yaw_means, 0.05), result.yaw_high = Quantile(yaw_means, 0.95);
+  result.pitch_low = Quantile(pitch_means, 0.05), result.pitch_high = Quantile(pitch_means, 0.95);
+  return result;
 }
 
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,

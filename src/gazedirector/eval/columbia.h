@@ -82,6 +82,19 @@ struct ColumbiaPhoto : GazeReadings {
 // One entry per photo, in the order of the fits.
 std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits);
 
+// How far the mean errors could move on other people like these: one
+// person's photos share that person's bias, so the photos are resampled by
+// subject. `draws` times the subjects are drawn with replacement (as many as
+// there are) and the mean yaw and pitch errors of all their photos taken; the
+// result is the 5th and 95th percentiles of those means.
+struct SubjectResampling {
+  int subjects = 0;
+  double yaw_low = 0, yaw_high = 0;
+  double pitch_low = 0, pitch_high = 0;
+};
+SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, GazeFrame frame, int draws = 2000,
+                                   unsigned seed = 1);
+
 // Fits every crop with `threads` fitters working side by side; `progress`
 // is called after each crop.
 // With `known_head_pose`, the eye region's yaw is the crop's HeadYaw() and

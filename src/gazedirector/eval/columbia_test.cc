@@ -100,6 +100,42 @@ TEST(ColumbiaTest, APhotosGazeIsTheMeanOfItsEyes) {
   EXPECT_DOUBLE_EQ(photos[1].in_head.yaw_error, 1);
 }
 
+TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
+  // Two subjects: one errs by 1 degree of yaw in each of its two photos, the
+  // other by 5 (pitch: 2 and 2). Drawn with replacement, the pooled mean is
+  // 1, 3 or 5 (a quarter, half and a quarter of the draws).
+  std::vector<ColumbiaPhoto> photos(4);
+  const char* names[] = {"0001_2m_0P_0V_0H_L.jpg", "0001_2m_0P_0V_5H_L.jpg", "0002_2m_0P_0V_0H_L.jpg",
+                         "0002_2m_0P_0V_5H_L.jpg"};
+  for (int i = 0; i < 4; ++i) {
+    photos[i].crop = Crop(names[i]);
+    photos[i].in_head.yaw_error = i < 2 ? 1 : 5;
+    photos[i].in_head.pitch_error = 2;
+  }
+  const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead, 400);
+  EXPECT_EQ(spread.subjects, 2);
+  EXPECT_DOUBLE_EQ(spread.yaw_low, 1);
+  EXPECT_DOUBLE_EQ(spread.yaw_high, 5);
+  EXPECT_DOUBLE_EQ(spread.pitch_low, 2);
+  EXPECT_DOUBLE_EQ(spread.pitch_high, 2);
+  // Three subjects erring by 1, 2 and 6: all three draws the same subject
+  // in 1 of 27 draws, too rarely to reach either percentile.
+  photos[1].crop = Crop("0003_2m_0P_0V_0H_L.jpg"), photos[1].in_head.yaw_error = 6;
+  photos[3].crop = Crop("0002_2m_0P_0V_0H_R.jpg"), photos[3].in_head.yaw_error = 2, photos[2].in_head.yaw_error = 2;
+  const SubjectResampling three = ResampleSubjects(photos, GazeFrame::kHead, 2000);
+  EXPECT_EQ(three.subjects, 3);
+  EXPECT_GT(three.yaw_low, 1);
+  EXPECT_LT(three.yaw_low, 3);
+  EXPECT_GT(three.yaw_high, 3);
+  EXPECT_LT(three.yaw_high, 6);
+  EXPECT_EQ(ResampleSubjects(photos, GazeFrame::kHead, 2000).yaw_high, three.yaw_high);  // the same seed, the same figures
+  // One subject gives no spread.
+  photos.resize(1);
+  const SubjectResampling one = ResampleSubjects(photos, GazeFrame::kHead, 400);
+  EXPECT_DOUBLE_EQ(one.yaw_low, 1);
+  EXPECT_DOUBLE_EQ(one.yaw_high, 1);
+}
+
 // Real crops: a subject looking 15 degrees either side of straight ahead,
 // each eye fitted on its own, both eyes together within a few degrees.
 TEST(ColumbiaTest, BothEyesOfARealFaceGiveItsHorizontalGaze) {
