@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -76,23 +77,22 @@ struct PoseSummaries {
   std::map<int, ErrorSummary> by_pose;
 };
 
-template <typename Estimate>
-PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates, GazeFrame frame) {
-  std::map<int, std::vector<const Estimate*>> by_pose;
-  std::vector<const Estimate*> all;
-  for (const Estimate& estimate : estimates) by_pose[estimate.crop.head_pose].push_back(&estimate), all.push_back(&estimate);
-  PoseSummaries summaries{Summarise(all, frame), {}};
-  for (const auto& [pose, subset] : by_pose) summaries.by_pose[pose] = Summarise(subset, frame);
+// One summary per value of `key` (of an estimate's crop), in the key's order.
+template <typename Estimate, typename Key>
+auto SummariseBy(const std::vector<Estimate>& estimates, GazeFrame frame, Key key) {
+  using Value = std::decay_t<decltype(key(estimates.front().crop))>;
+  std::map<Value, std::vector<const Estimate*>> groups;
+  for (const Estimate& estimate : estimates) groups[key(estimate.crop)].push_back(&estimate);
+  std::map<Value, ErrorSummary> summaries;
+  for (const auto& [value, group] : groups) summaries[value] = Summarise(group, frame);
   return summaries;
 }
 
 template <typename Estimate>
-std::map<std::string, ErrorSummary> SummariseBySubject(const std::vector<Estimate>& estimates, GazeFrame frame) {
-  std::map<std::string, std::vector<const Estimate*>> by_subject;
-  for (const Estimate& estimate : estimates) by_subject[estimate.crop.subject].push_back(&estimate);
-  std::map<std::string, ErrorSummary> summaries;
-  for (const auto& [subject, subset] : by_subject) summaries[subject] = Summarise(subset, frame);
-  return summaries;
+PoseSummaries SummariseByPose(const std::vector<Estimate>& estimates, GazeFrame frame) {
+  std::vector<const Estimate*> all;
+  for (const Estimate& estimate : estimates) all.push_back(&estimate);
+  return {Summarise(all, frame), SummariseBy(estimates, frame, [](const ColumbiaCrop& crop) { return crop.head_pose; })};
 }
 
 // `counted` names what the summary counts: "photos" (the face's gaze) or "crops" (one eye).
@@ -194,7 +194,7 @@ int RunColumbiaEval(const EvalOptions& options) {
   const PoseSummaries by_photo = SummariseByPose(photos, GazeFrame::kHead);
   const PoseSummaries by_crop = SummariseByPose(fits, GazeFrame::kHead);
   const PoseSummaries by_photo_camera = SummariseByPose(photos, GazeFrame::kCamera);
-  const std::map<std::string, ErrorSummary> by_subject = SummariseBySubject(photos, GazeFrame::kHead);
+  const auto by_subject = SummariseBy(photos, GazeFrame::kHead, [](const ColumbiaCrop& crop) { return crop.subject; });
   const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead);
   const double fits_per_s = fits.size() / seconds;
 
@@ -276,9 +276,9 @@ int RunColumbiaEval(const EvalOptions& options) {
   fmt::print("relative to the head, the face's gaze, by subject\n");
   table(Rows(by_subject.begin(), by_subject.end()), nullptr, "subject", "photos");
   if (spread.subjects > 1) {
-    fmt::print("resampling the {} subjects (2000 draws with replacement), 5th-95th percentile of the mean: yaw "
+    fmt::print("resampling the {} subjects ({} draws with replacement), 5th-95th percentile of the mean: yaw "
                "{:.2f}-{:.2f}, pitch {:.2f}-{:.2f}\n",
-               spread.subjects, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
+               spread.subjects, spread.draws, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
   }
   fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)" : "estimated from each crop");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);

@@ -111,7 +111,7 @@ SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, Gaz
   std::vector<ErrorSums> subjects;
   for (const auto& [subject, sums] : by_subject) subjects.push_back(sums);
   SubjectResampling result;
-  result.subjects = static_cast<int>(subjects.size());
+  result.subjects = static_cast<int>(subjects.size()), result.draws = draws;
   if (subjects.empty()) return result;
   std::mt19937 random(seed);
   std::uniform_int_distribution<std::size_t> pick(0, subjects.size() - 1);

@@ -88,7 +88,7 @@ std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits);
 // there are) and the mean yaw and pitch errors of all their photos taken; the
 // result is the 5th and 95th percentiles of those means.
 struct SubjectResampling {
-  int subjects = 0;
+  int subjects = 0, draws = 0;
   double yaw_low = 0, yaw_high = 0;
   double pitch_low = 0, pitch_high = 0;
 };

@@ -100,19 +100,24 @@ TEST(ColumbiaTest, APhotosGazeIsTheMeanOfItsEyes) {
   EXPECT_DOUBLE_EQ(photos[1].in_head.yaw_error, 1);
 }
 
-TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
-  // Two subjects: one errs by 1 degree of yaw in each of its two photos, the
-  // other by 5 (pitch: 2 and 2). Drawn with replacement, the pooled mean is
-  // 1, 3 or 5 (a quarter, half and a quarter of the draws).
-  std::vector<ColumbiaPhoto> photos(4);
-  const char* names[] = {"0001_2m_0P_0V_0H_L.jpg", "0001_2m_0P_0V_5H_L.jpg", "0002_2m_0P_0V_0H_L.jpg",
-                         "0002_2m_0P_0V_5H_L.jpg"};
-  for (int i = 0; i < 4; ++i) {
-    photos[i].crop = Crop(names[i]);
-    photos[i].in_head.yaw_error = i < 2 ? 1 : 5;
+// One photo per entry: its subject and its yaw error in the head's frame
+// (pitch error 2 everywhere).
+std::vector<ColumbiaPhoto> PhotosWithYawErrors(const std::vector<std::pair<std::string, double>>& errors) {
+  std::vector<ColumbiaPhoto> photos(errors.size());
+  for (std::size_t i = 0; i < errors.size(); ++i) {
+    photos[i].crop = Crop(errors[i].first + "_2m_0P_0V_" + std::to_string(5 * i) + "H_L.jpg");
+    photos[i].in_head.yaw_error = errors[i].second;
     photos[i].in_head.pitch_error = 2;
   }
-  const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead, 400);
+  return photos;
+}
+
+TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
+  // Two subjects: one errs by 1 degree of yaw in each of its two photos, the
+  // other by 5. Drawn with replacement, the pooled mean is 1, 3 or 5 (a
+  // quarter, half and a quarter of the draws).
+  const SubjectResampling spread =
+      ResampleSubjects(PhotosWithYawErrors({{"0001", 1}, {"0001", 1}, {"0002", 5}, {"0002", 5}}), GazeFrame::kHead, 400);
   EXPECT_EQ(spread.subjects, 2);
   EXPECT_DOUBLE_EQ(spread.yaw_low, 1);
   EXPECT_DOUBLE_EQ(spread.yaw_high, 5);
@@ -120,18 +125,17 @@ TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
   EXPECT_DOUBLE_EQ(spread.pitch_high, 2);
   // Three subjects erring by 1, 2 and 6: all three draws the same subject
   // in 1 of 27 draws, too rarely to reach either percentile.
-  photos[1].crop = Crop("0003_2m_0P_0V_0H_L.jpg"), photos[1].in_head.yaw_error = 6;
-  photos[3].crop = Crop("0002_2m_0P_0V_0H_R.jpg"), photos[3].in_head.yaw_error = 2, photos[2].in_head.yaw_error = 2;
-  const SubjectResampling three = ResampleSubjects(photos, GazeFrame::kHead, 2000);
+  const std::vector<ColumbiaPhoto> three_subjects =
+      PhotosWithYawErrors({{"0001", 1}, {"0003", 6}, {"0002", 2}, {"0002", 2}});
+  const SubjectResampling three = ResampleSubjects(three_subjects, GazeFrame::kHead, 2000);
   EXPECT_EQ(three.subjects, 3);
   EXPECT_GT(three.yaw_low, 1);
   EXPECT_LT(three.yaw_low, 3);
   EXPECT_GT(three.yaw_high, 3);
   EXPECT_LT(three.yaw_high, 6);
-  EXPECT_EQ(ResampleSubjects(photos, GazeFrame::kHead, 2000).yaw_high, three.yaw_high);  // the same seed, the same figures
+  EXPECT_EQ(ResampleSubjects(three_subjects, GazeFrame::kHead, 2000).yaw_high, three.yaw_high);  // the same seed, the same figures
   // One subject gives no spread.
-  photos.resize(1);
-  const SubjectResampling one = ResampleSubjects(photos, GazeFrame::kHead, 400);
+  const SubjectResampling one = ResampleSubjects(PhotosWithYawErrors({{"0001", 1}}), GazeFrame::kHead, 400);
   EXPECT_DOUBLE_EQ(one.yaw_low, 1);
   EXPECT_DOUBLE_EQ(one.yaw_high, 1);
 }
