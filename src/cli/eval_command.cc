@@ -247,8 +247,7 @@ int RunColumbiaEval(const EvalOptions& options) {
     return 0;
   }
   using Rows = std::vector<std::pair<std::string, ErrorSummary>>;
-  auto table = [](const Rows& rows, const ErrorSummary* all, const std::string& key,
-                  const std::string& unit) {
+  auto table = [](const Rows& rows, const std::string& key, const std::string& unit) {
     fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>15} {:>9}   {:>15} {:>9}\n", key, unit, "yaw mean",
                "median", "pitch mean", "median", "zero yaw mean", "median", "zero pitch mean", "median");
     auto row = [](const std::string& name, const ErrorSummary& s) {
@@ -257,12 +256,12 @@ int RunColumbiaEval(const EvalOptions& options) {
                  s.zero_pitch_mean, s.zero_pitch_median);
     };
     for (const auto& [name, summary] : rows) row(name, summary);
-    if (all) row("all", *all);
   };
   auto by_pose_table = [&table](const PoseSummaries& summaries, const std::string& unit) {
     Rows rows;
     for (const auto& [pose, summary] : summaries.by_pose) rows.emplace_back(std::to_string(pose), summary);
-    table(rows, &summaries.all, "head pose", unit);
+    rows.emplace_back("all", summaries.all);
+    table(rows, "head pose", unit);
   };
   fmt::print("gaze error on {} photos ({} crops) in {} (degrees)\n", photos.size(), fits.size(), dir.string());
   fmt::print("labels: relative to the camera (0V 0H looks into the lens at every head pose); in the head's frame\n"
@@ -274,7 +273,7 @@ int RunColumbiaEval(const EvalOptions& options) {
   fmt::print("relative to the camera, the face's gaze (zero: looking into the lens)\n");
   by_pose_table(by_photo_camera, "photos");
   fmt::print("relative to the head, the face's gaze, by subject\n");
-  table(Rows(by_subject.begin(), by_subject.end()), nullptr, "subject", "photos");
+  table(Rows(by_subject.begin(), by_subject.end()), "subject", "photos");
   if (spread.subjects > 1) {
     fmt::print("resampling the {} subjects ({} draws with replacement), 5th-95th percentile of the mean: yaw "
                "{:.2f}-{:.2f}, pitch {:.2f}-{:.2f}\n",

@@ -105,8 +105,9 @@ SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, Gaz
   };
   std::map<std::string, ErrorSums> by_subject;
   for (const ColumbiaPhoto& photo : photos) {
+    const GazeReading& reading = photo.Reading(frame);
     ErrorSums& sums = by_subject[photo.crop.subject];
-    sums.yaw += photo.Reading(frame).yaw_error, sums.pitch += photo.Reading(frame).pitch_error, ++sums.photos;
+    sums.yaw += reading.yaw_error, sums.pitch += reading.pitch_error, ++sums.photos;
   }
   std::vector<ErrorSums> subjects;
   for (const auto& [subject, sums] : by_subject) subjects.push_back(sums);
