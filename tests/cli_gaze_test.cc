@@ -151,6 +151,8 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_EQ(result["by_subject"].size(), 1u);
   EXPECT_EQ(result["by_subject"]["0013"]["photos"].get<int>(), 3);
   EXPECT_EQ(result["subject_resampling"]["subjects"].get<int>(), 1);
+  // The appearance pitch prior never saw the subject it reads.
+  EXPECT_NE(result["appearance_pitch"].get<std::string>().find("each evaluated subject left out"), std::string::npos);
   EXPECT_NEAR(result["subject_resampling"]["pitch_mean_p95_deg"].get<double>(), result["pitch_mean_deg"].get<double>(), 1e-3);
   std::ifstream csv(dir / "crops.csv");
   std::string line;
@@ -171,6 +173,37 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_DOUBLE_EQ(result["zero_pitch_median_deg"].get<double>(), Median(zero_pitch_errors));
   EXPECT_EQ(RunCli("eval columbia --subjects 0007 --exclude-subjects 0007", &output), 4) << output;  // bad input
   EXPECT_NE(output.find("no crops"), std::string::npos) << output;
+  EXPECT_EQ(RunCli("eval columbia --subjects 0013 --pitch-training " + Quote(dir / "missing"), &output), 4) << output;
+  EXPECT_NE(output.find("no such folder"), std::string::npos) << output;
+}
+
+// train-pitch makes a model that track --eye-patch's prior could load, from
+// a folder of labelled crops; a folder without any fails and writes nothing.
+TEST(CliGazeTest, TrainPitchWritesAModelFromLabelledCrops) {
+  const fs::path dir = ScratchDir("cli_train_pitch");
+  const fs::path crops = dir / "crops";
+  fs::create_directories(crops);
+  int linked = 0;
+  for (const auto& entry : fs::directory_iterator(DataPath("columbia-eyes"))) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("0013_2m_0P_", 0) == 0 || name.rfind("0014_2m_0P_", 0) == 0) {
+      fs::create_symlink(entry.path(), crops / name);
+      ++linked;
+    }
+  }
+  ASSERT_EQ(linked, 84);
+  std::string output;
+  ASSERT_EQ(RunCli("train-pitch " + Quote(crops) + " -o " + Quote(dir / "pitch.json"), &output), 0) << output;
+  std::ifstream stream(dir / "pitch.json");
+  const nlohmann::json model = nlohmann::json::parse(stream);
+  EXPECT_EQ(model["samples"].get<int>(), 84);
+  EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
+  EXPECT_EQ(model["weights"].size(), 97u);  // the 8 x 12 band and the intercept
+  EXPECT_EQ(RunCli("train-pitch " + Quote(dir / "pitch.json") + " -o " + Quote(dir / "none.json"), &output), 4) << output;
+  EXPECT_EQ(RunCli("train-pitch " + Quote(dir) + " -o " + Quote(dir / "none.json"), &output), 4) << output;
+  EXPECT_NE(output.find("no files named like"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir / "none.json"));
+  EXPECT_TRUE(NoPartialFiles(dir));
 }
 
 TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {

@@ -43,6 +43,7 @@ Command RegisterEvalCommand(CLI::App& root);
 Command RegisterRenderCommand(CLI::App& root);
 Command RegisterTrackCommand(CLI::App& root);
 Command RegisterRedirectCommand(CLI::App& root);
+Command RegisterTrainCommand(CLI::App& root);
 
 // Fails with a usage error unless `path`'s extension is one of `allowed`.
 void RequireExtension(const std::filesystem::path& path, const std::string& option,

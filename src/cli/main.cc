@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "gazedirector 0.1.0");
   std::vector<cli::Command> commands = {cli::RegisterLandmarksCommand(app), cli::RegisterBenchCommand(app),
                                         cli::RegisterEvalCommand(app), cli::RegisterRenderCommand(app),
-                                        cli::RegisterTrackCommand(app), cli::RegisterRedirectCommand(app)};
+                                        cli::RegisterTrackCommand(app), cli::RegisterRedirectCommand(app),
+                                        cli::RegisterTrainCommand(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,5 +1,7 @@
 // gazedirector track: fit the eye-region model to every face of an image or
 // video, and estimate gaze.
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -8,6 +10,7 @@
 
 #include "cli/common.h"
 #include "cli/fitting.h"
+#include "gazedirector/fit/appearance_pitch.h"
 #include "gazedirector/fit/fit_options.h"
 #include "gazedirector/io/fit_io.h"
 #include "gazedirector/io/image_io.h"
@@ -63,9 +66,18 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const cv::Mat crop = ReadImage(options.input);
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
-  Fitter fitter(setup.model, setup.tracker_options.fresh);
+  // Eye patches are fitted as `eval columbia` fits its crops.
+  FitOptions fit_options;
+  fit_options.work_width = kEyePatchWorkWidth;
+  for (const std::string& assignment : options.fitting.fit) SetFitOption(fit_options, assignment);
+  Fitter fitter(setup.model, fit_options);
+  // The crop's appearance pitch, the fit's prior on gaze pitch (off at weight 0).
+  double appearance_pitch = std::numeric_limits<double>::quiet_NaN();
+  if (fitter.options().weights.appearance_pitch > 0) {
+    appearance_pitch = AppearancePitch::Load(DefaultAppearancePitchPath()).Predict(crop, eye);
+  }
   FaceFit fit;
-  fit.fit = fitter.FitEyePatch(crop, eye);
+  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, 0.76, 0, appearance_pitch);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};
   fit.has_face = false;
   const Camera camera = Fitter::EyePatchCamera(crop.size());
@@ -76,8 +88,9 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
     DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
     WriteImage(options.overlay, overlay, inputs);
   }
-  spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head, energy {:.4f}{} -> {}", options.input,
-               options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
+  spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head (appearance prior {}), energy {:.4f}{} -> {}",
+               options.input, options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
+               std::isnan(appearance_pitch) ? std::string("off") : fmt::format("{:.1f}", appearance_pitch),
                fit.fit.terms.total(), fit.fit.good ? "" : " (poor fit: " + fit.fit.note + ")", options.output);
   return 0;
 }

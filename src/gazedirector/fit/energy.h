@@ -18,6 +18,9 @@ struct EnergyWeights {
   double pose = 4e-5;         // λ_pose, per squared degree of eyelid-gaze mismatch
   double closure = 1e-5;      // per squared degree of eyelid closure: open eyes unless the image says otherwise
   double vergence = 2e-5;     // per squared degree of vergence: the eyes' axes meet far away unless the image says otherwise
+  // λ_app, per squared degree between the gaze pitch and the pitch the crop's
+  // appearance reads (AppearancePitch), where one is given (eye patches).
+  double appearance_pitch = 1e-4;
 };
 
 // The energy's terms for one Φ; image and landmarks are normalised by the

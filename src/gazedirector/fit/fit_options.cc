@@ -24,6 +24,7 @@ const std::map<std::string, Accessor>& Options() {
       {"pose_prior", [](FitOptions& o) -> double& { return o.weights.pose; }},
       {"vergence_prior", [](FitOptions& o) -> double& { return o.weights.vergence; }},
       {"closure_prior", [](FitOptions& o) -> double& { return o.weights.closure; }},
+      {"appearance_pitch", [](FitOptions& o) -> double& { return o.weights.appearance_pitch; }},
       {"tolerance", [](FitOptions& o) -> double& { return o.tolerance; }},
       {"first_step", [](FitOptions& o) -> double& { return o.first_step; }},
       {"step_growth", [](FitOptions& o) -> double& { return o.step_growth; }},

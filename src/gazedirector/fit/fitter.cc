@@ -210,7 +210,7 @@ Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance,
 }
 
 FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
-                                 double head_yaw) {
+                                 double head_yaw, double appearance_pitch) {
   const Camera camera = EyePatchCamera(crop.size());
   Parameters phi = EyePatchStart(crop.size(), eye, corner_distance, head_yaw);
   phi.gaze_pitch() = pitch;
@@ -229,6 +229,7 @@ FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, doub
   std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
   std::vector<Level> levels =
       Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, framing, targets, weights, eyes, scale);
+  for (Level& level : levels) level.problem->set_appearance_pitch(appearance_pitch);
   // One eye cannot tell the interocular distance or the vergence.
   ParameterMask free = options_.free;
   free[LayoutOf(Block::kInterocular).offset] = false;
@@ -265,7 +266,7 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
     const std::vector<int>& domain = problem.domain();
     pixel_scales_.resize(domain.size());
     for (std::size_t d = 0; d < domain.size(); ++d) pixel_scales_[d] = problem.PixelScale(main, domain[d]);
-    const int texture_prior_row = rows - 3 - kNumTextureModes;
+    const int texture_prior_row = rows - FittingProblem::kPoseResiduals - kNumTextureModes;
     for (std::size_t n = 0; n < linear.size(); ++n) {
       const int column = linear[n].first;
       auto out = jacobian_.col(column);

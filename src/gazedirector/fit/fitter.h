@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -95,9 +96,11 @@ class Fitter {
   // shape, the head turned by `head_yaw` degrees.
   Parameters EyePatchStart(cv::Size crop, int eye, double corner_distance = 0.76, double head_yaw = 0.0) const;
   static Camera EyePatchCamera(cv::Size crop);
-  // The same, starting from a given gaze (pitch, yaw in degrees; the lids follow).
+  // The same, starting from a given gaze (pitch, yaw in degrees; the lids
+  // follow), with the gaze pitch pulled toward `appearance_pitch` (degrees,
+  // AppearancePitch's reading of the crop) unless it is NaN.
   FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance = 0.76,
-                          double head_yaw = 0.0);
+                          double head_yaw = 0.0, double appearance_pitch = std::numeric_limits<double>::quiet_NaN());
 
   FitOptions& options() { return options_; }
   const FitOptions& options() const { return options_; }
@@ -144,6 +147,10 @@ class Fitter {
   std::vector<float> pixel_scales_;  // each domain pixel's weight in the residuals, for the exact columns
   Eigen::VectorXf residuals_;
 };
+
+// The working width of eye-patch fits of the 64 px Columbia crops: resampled
+// to 128 px, where their gaze is read best (docs/known-gaps.md, session 31).
+inline constexpr int kEyePatchWorkWidth = 128;
 
 // How far the lids and the gaze may pitch either way, degrees.
 inline constexpr double kEyelidPitchBoundDeg = 40;

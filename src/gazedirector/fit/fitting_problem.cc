@@ -36,7 +36,7 @@ void FittingProblem::SetDomain(const RenderBuffers& current, int margin) {
 }
 
 int FittingProblem::num_residuals() const {
-  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + 3;
+  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + kPoseResiduals;
 }
 
 namespace {
@@ -135,6 +135,8 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   terms.pose = weights_.pose * std::pow(phi.eyelid_pitch() - phi.gaze_pitch(), 2) +
                weights_.vergence * phi.vergence() * phi.vergence() +
                weights_.closure * phi.eyelid_closure() * phi.eyelid_closure();
+  const double appearance_miss = std::isnan(appearance_pitch_) ? 0.0 : phi.gaze_pitch() - appearance_pitch_;
+  terms.pose += weights_.appearance_pitch * appearance_miss * appearance_miss;
 
   if (residuals == nullptr) return terms;
   work.foreground_index.assign(static_cast<std::size_t>(camera_.width) * camera_.height, -1);
@@ -172,6 +174,7 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   r[row] = static_cast<float>(std::sqrt(weights_.pose) * (phi.eyelid_pitch() - phi.gaze_pitch()));
   r[row + 1] = static_cast<float>(std::sqrt(weights_.vergence) * phi.vergence());
   r[row + 2] = static_cast<float>(std::sqrt(weights_.closure) * phi.eyelid_closure());
+  r[row + 3] = static_cast<float>(std::sqrt(weights_.appearance_pitch) * appearance_miss);
   return terms;
 }
 

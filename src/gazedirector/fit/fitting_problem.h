@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -42,7 +43,8 @@ struct EvaluationWorkspace {
 //   image      3 per pixel of the domain: (I_syn - I_obs) / sqrt|P|, capped at sqrt(T)
 //   landmarks  2 per landmark: (l' - l) sqrt(λ / |P|)
 //   stats      sqrt(λ_geo) β, sqrt(λ_tex) τ
-//   pose       sqrt(λ_pose) (θ_lid - θ_p), sqrt(λ_verg) θ_v, sqrt(λ_close) θ_close
+//   pose       sqrt(λ_pose) (θ_lid - θ_p), sqrt(λ_verg) θ_v, sqrt(λ_close) θ_close,
+//              sqrt(λ_app) (θ_p - θ_app) where an appearance pitch θ_app is given
 class FittingProblem {
  public:
   FittingProblem(std::shared_ptr<const EyeRegionModel> model, const cv::Mat& observed_rgb, const Camera& camera,
@@ -54,6 +56,8 @@ class FittingProblem {
   // the model may move onto are included.
   void SetDomain(const RenderBuffers& current, int margin);
   int num_residuals() const;
+  // The residuals after the texture prior's: eyelid-gaze, vergence, closure, appearance pitch.
+  static constexpr int kPoseResiduals = 4;
   int num_image_residuals() const { return 3 * static_cast<int>(domain_.size()); }
   const std::vector<int>& domain() const { return domain_; }
 
@@ -72,6 +76,10 @@ class FittingProblem {
   std::array<bool, 2> eyes() const { return eyes_; }
   const LandmarkModel& landmark_model() const { return landmark_model_; }
   const std::vector<Eigen::Vector2d>& target_landmarks() const { return targets_; }
+  // The gaze pitch (degrees) the crop's appearance reads (AppearancePitch),
+  // pulled toward with weight λ_app; NaN (the default) for none.
+  void set_appearance_pitch(double pitch_deg) { appearance_pitch_ = pitch_deg; }
+  double appearance_pitch() const { return appearance_pitch_; }
 
  private:
   std::shared_ptr<const EyeRegionModel> model_;
@@ -83,6 +91,7 @@ class FittingProblem {
   EnergyWeights weights_;
   std::array<bool, 2> eyes_;
   std::vector<int> domain_;
+  double appearance_pitch_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace gazedirector

@@ -1,6 +1,7 @@
 #include "gazedirector/fit/fitting_problem.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -76,6 +77,25 @@ TEST(FittingProblemTest, ResidualsSquareToTheEnergy) {
     EXPECT_GT(terms.landmarks, 0);
     EXPECT_GT(terms.pose, 0);
   }
+}
+
+// The appearance pitch prior adds λ_app (θ_p - θ_app)² to the pose term, in
+// the energy and in its last residual alike; without a reading it adds nothing.
+TEST(FittingProblemTest, TheAppearancePitchPullsTowardItsReading) {
+  CropProblem crop;
+  EvaluationWorkspace work(SharedModel());
+  const CropProblem::OnItsDomain without = crop.EvaluateOnItsDomain(work);
+  EXPECT_EQ(without.residuals[without.residuals.size() - 1], 0.0f);
+  const double reading = -7;
+  crop.problem->set_appearance_pitch(reading);
+  const CropProblem::OnItsDomain with = crop.EvaluateOnItsDomain(work);
+  const double weight = crop.problem->weights().appearance_pitch;
+  ASSERT_GT(weight, 0);
+  const double miss = crop.phi.gaze_pitch() - reading;
+  EXPECT_NEAR(with.terms.pose - without.terms.pose, weight * miss * miss, 1e-12);
+  EXPECT_EQ(with.terms.image, without.terms.image);
+  EXPECT_NEAR(with.residuals[with.residuals.size() - 1], std::sqrt(weight) * miss, 1e-6);
+  EXPECT_NEAR(with.residuals.cast<double>().squaredNorm(), with.terms.total(), 1e-5 * with.terms.total());
 }
 
 // No pixel counts more than the truncation T (times the eyeball weight), and

@@ -1,0 +1,55 @@
+// `gazedirector train-pitch`: trains the appearance pitch prior on labelled
+// Columbia crops and writes it, as models/appearance_pitch.json was made.
+#include <memory>
+
+#include <spdlog/spdlog.h>
+
+#include "cli/common.h"
+#include "gazedirector/eval/columbia.h"
+#include "gazedirector/fit/appearance_pitch.h"
+#include "gazedirector/io/assets.h"
+#include "gazedirector/util/error.h"
+#include "gazedirector/util/timer.h"
+
+namespace gazedirector::cli {
+namespace {
+
+struct TrainOptions {
+  CommonOptions common;
+  std::string dir;
+  std::string output;
+  double ridge = 10.0;
+};
+
+int RunTrainPitch(const TrainOptions& options) {
+  ApplyLogLevel(options.common);
+  const std::filesystem::path dir = options.dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.dir);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) Fail(ExitCode::kBadInput, "{}: no such folder of crops", dir.string());
+  const std::vector<ColumbiaCrop> crops = ListColumbia(dir);  // fails when there are none
+  Timer timer;
+  AppearancePitchTrainer trainer(options.ridge);
+  AddColumbiaCrops(crops, trainer);
+  const AppearancePitch model = trainer.Solve();
+  model.Save(options.output);
+  spdlog::info("trained on {} crops of {} subjects in {:.1f} s; wrote {}", model.samples(), model.subjects().size(),
+               timer.Seconds(), options.output);
+  return 0;
+}
+
+}  // namespace
+
+Command RegisterTrainCommand(CLI::App& root) {
+  auto options = std::make_shared<TrainOptions>();
+  CLI::App* app = root.add_subcommand(
+      "train-pitch", "Train the appearance pitch prior of eye-patch fits on labelled Columbia crops (all head poses)");
+  app->add_option("dir", options->dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
+  app->add_option("-o,--output", options->output, "Write the model here (JSON), e.g. models/appearance_pitch.json")->required();
+  app->add_option("--ridge", options->ridge, "Penalty on the squared weights of the standardised pixels")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  AddCommonOptions(*app, options->common);
+  return {app, [options] { return RunTrainPitch(*options); }};
+}
+
+}  // namespace gazedirector::cli
