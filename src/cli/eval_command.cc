@@ -132,7 +132,7 @@ cv::Mat ConvergencePlot(const std::vector<ColumbiaFit>& fits) {
 }
 
 std::filesystem::path ColumbiaDir(const EvalOptions& options) {
-  return options.columbia_dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.columbia_dir);
+  return ColumbiaDirOrDefault(options.columbia_dir);
 }
 
 // The crops of the chosen subjects (less the excluded ones) and head poses
@@ -197,8 +197,7 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
   for (const ColumbiaCrop& crop : crops) {
     if (std::find(subjects.begin(), subjects.end(), crop.subject) == subjects.end()) subjects.push_back(crop.subject);
   }
-  const std::filesystem::path training =
-      options.pitch_training.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.pitch_training);
+  const std::filesystem::path training = ColumbiaDirOrDefault(options.pitch_training);
   AppearanceModels models;
   std::error_code ec;
   if (std::filesystem::is_directory(training, ec)) {

@@ -12,6 +12,7 @@
 #include "cli/fitting.h"
 #include "gazedirector/fit/appearance_pitch.h"
 #include "gazedirector/fit/fit_options.h"
+#include "gazedirector/io/assets.h"
 #include "gazedirector/io/fit_io.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/json_format.h"

@@ -7,8 +7,6 @@
 #include "cli/common.h"
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/fit/appearance_pitch.h"
-#include "gazedirector/io/assets.h"
-#include "gazedirector/util/error.h"
 #include "gazedirector/util/timer.h"
 
 namespace gazedirector::cli {
@@ -23,10 +21,8 @@ struct TrainOptions {
 
 int RunTrainPitch(const TrainOptions& options) {
   ApplyLogLevel(options.common);
-  const std::filesystem::path dir = options.dir.empty() ? DefaultDataDir() / "columbia-eyes" : std::filesystem::path(options.dir);
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) Fail(ExitCode::kBadInput, "{}: no such folder of crops", dir.string());
-  const std::vector<ColumbiaCrop> crops = ListColumbia(dir);  // fails when there are none
+  // Fails unless it is a folder with crops in it.
+  const std::vector<ColumbiaCrop> crops = ListColumbia(ColumbiaDirOrDefault(options.dir));
   Timer timer;
   AppearancePitchTrainer trainer(options.ridge);
   AddColumbiaCrops(crops, trainer);

@@ -13,6 +13,7 @@
 
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/geometry/rotation.h"
+#include "gazedirector/io/assets.h"
 #include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
@@ -49,6 +50,10 @@ bool ParseColumbiaName(const fs::path& path, ColumbiaCrop& crop) {
   crop.horizontal = std::stoi(match[4]);
   crop.eye = match[5].str()[0];
   return true;
+}
+
+fs::path ColumbiaDirOrDefault(const std::string& dir) {
+  return dir.empty() ? DefaultDataDir() / "columbia-eyes" : fs::path(dir);
 }
 
 std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir) {

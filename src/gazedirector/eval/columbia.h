@@ -45,6 +45,8 @@ struct ColumbiaCrop {
 
 // Parses a crop's file name; false when it is not one.
 bool ParseColumbiaName(const std::filesystem::path& path, ColumbiaCrop& crop);
+// `dir`, or ../shared/data/columbia-eyes when it is empty.
+std::filesystem::path ColumbiaDirOrDefault(const std::string& dir);
 // Every crop in `dir`, sorted by name.
 std::vector<ColumbiaCrop> ListColumbia(const std::filesystem::path& dir);
 

@@ -9,10 +9,6 @@
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/util/error.h"
 
-#ifndef GAZEDIRECTOR_SOURCE_DIR
-#error "GAZEDIRECTOR_SOURCE_DIR must be defined by the build"
-#endif
-
 namespace gazedirector {
 namespace fs = std::filesystem;
 namespace {
@@ -137,10 +133,6 @@ std::vector<std::string> AppearancePitchTrainer::subjects() const {
   std::vector<std::string> names;
   for (const auto& [subject, sums] : by_subject_) names.push_back(subject);
   return names;
-}
-
-fs::path DefaultAppearancePitchPath() {
-  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_pitch.json").lexically_normal();
 }
 
 }  // namespace gazedirector

@@ -76,8 +76,4 @@ class AppearancePitchTrainer {
   double ridge_;
 };
 
-// The shipped model, trained by `gazedirector eval columbia --train-pitch`
-// on all the Columbia crops in ../shared/data (models/ in the repository).
-std::filesystem::path DefaultAppearancePitchPath();
-
 }  // namespace gazedirector

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "gazedirector/eval/columbia.h"
+#include "gazedirector/io/assets.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/statistics.h"
 #include "tests/test_data.h"

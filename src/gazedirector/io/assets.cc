@@ -28,6 +28,10 @@ const char* GetEnv(const char* name) {
 
 fs::path DefaultAssetsDir() { return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / ".." / "shared" / "assets").lexically_normal(); }
 
+fs::path DefaultAppearancePitchPath() {
+  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_pitch.json").lexically_normal();
+}
+
 fs::path DefaultDataDir() {
   if (const char* dir = GetEnv("GAZEDIRECTOR_DATA")) return dir;
   return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / ".." / "shared" / "data").lexically_normal();
