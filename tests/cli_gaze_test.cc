@@ -151,8 +151,8 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_EQ(result["by_subject"].size(), 1u);
   EXPECT_EQ(result["by_subject"]["0013"]["photos"].get<int>(), 3);
   EXPECT_EQ(result["subject_resampling"]["subjects"].get<int>(), 1);
-  // The appearance pitch prior never saw the subject it reads.
-  EXPECT_NE(result["appearance_pitch"].get<std::string>().find("each evaluated subject left out"), std::string::npos);
+  // The appearance gaze prior never saw the subject it reads.
+  EXPECT_NE(result["appearance_prior"].get<std::string>().find("each evaluated subject left out"), std::string::npos);
   EXPECT_NEAR(result["subject_resampling"]["pitch_mean_p95_deg"].get<double>(), result["pitch_mean_deg"].get<double>(), 1e-3);
   std::ifstream csv(dir / "crops.csv");
   std::string line;
@@ -173,14 +173,14 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_DOUBLE_EQ(result["zero_pitch_median_deg"].get<double>(), Median(zero_pitch_errors));
   EXPECT_EQ(RunCli("eval columbia --subjects 0007 --exclude-subjects 0007", &output), 4) << output;  // bad input
   EXPECT_NE(output.find("no crops"), std::string::npos) << output;
-  EXPECT_EQ(RunCli("eval columbia --subjects 0013 --pitch-training " + Quote(dir / "missing"), &output), 4) << output;
+  EXPECT_EQ(RunCli("eval columbia --subjects 0013 --appearance-training " + Quote(dir / "missing"), &output), 4) << output;
   EXPECT_NE(output.find("no such folder"), std::string::npos) << output;
 }
 
-// train-pitch makes a model that track --eye-patch's prior could load, from
-// a folder of labelled crops; a folder without any fails and writes nothing.
-TEST(CliGazeTest, TrainPitchWritesAModelFromLabelledCrops) {
-  const fs::path dir = ScratchDir("cli_train_pitch");
+// train-appearance makes a model that track --eye-patch's prior could load,
+// from a folder of labelled crops; a folder without any fails and writes nothing.
+TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
+  const fs::path dir = ScratchDir("cli_train_appearance");
   const fs::path crops = dir / "crops";
   fs::create_directories(crops);
   int linked = 0;
@@ -193,14 +193,18 @@ TEST(CliGazeTest, TrainPitchWritesAModelFromLabelledCrops) {
   }
   ASSERT_EQ(linked, 84);
   std::string output;
-  ASSERT_EQ(RunCli("train-pitch " + Quote(crops) + " -o " + Quote(dir / "pitch.json"), &output), 0) << output;
-  std::ifstream stream(dir / "pitch.json");
+  ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.json"), &output), 0) << output;
+  std::ifstream stream(dir / "gaze.json");
   const nlohmann::json model = nlohmann::json::parse(stream);
-  EXPECT_EQ(model["samples"].get<int>(), 84);
+  EXPECT_EQ(model["pitch_samples"].get<int>(), 84);
+  EXPECT_EQ(model["yaw_samples"].get<int>(), 84);  // all frontal
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
-  EXPECT_EQ(model["weights"].size(), 97u);  // the 8 x 12 band and the intercept
-  EXPECT_EQ(RunCli("train-pitch " + Quote(dir / "pitch.json") + " -o " + Quote(dir / "none.json"), &output), 4) << output;
-  EXPECT_EQ(RunCli("train-pitch " + Quote(dir) + " -o " + Quote(dir / "none.json"), &output), 4) << output;
+  // The 8 x 12 band, the eye's side and the intercept, for pitch and for yaw.
+  EXPECT_EQ(model["pitch_weights"].size(), 98u);
+  EXPECT_EQ(model["mirrored_yaw_weights"].size(), 98u);
+  EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "gaze.json") + " -o " + Quote(dir / "none.json"), &output), 4)
+      << output;
+  EXPECT_EQ(RunCli("train-appearance " + Quote(dir) + " -o " + Quote(dir / "none.json"), &output), 4) << output;
   EXPECT_NE(output.find("no files named like"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(dir / "none.json"));
   EXPECT_TRUE(NoPartialFiles(dir));

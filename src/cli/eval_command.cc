@@ -44,7 +44,7 @@ struct EvalOptions {
   int iterations = 0;
   std::vector<std::string> fit_options;
   bool known_head_pose = false;
-  std::string pitch_training;
+  std::string appearance_training;
   std::string out_dir;
   RedirectColumbiaOptions redirect;
   std::string cdf_plot = "eval_redirect_columbia.png";
@@ -183,13 +183,13 @@ ColumbiaRun PrepareColumbiaRun(const EvalOptions& options) {
   return run;
 }
 
-// Where the appearance pitch prior comes from in an evaluation, in words.
+// Where the appearance gaze prior comes from in an evaluation, in words.
 struct AppearanceModels {
-  std::map<std::string, AppearancePitch> by_subject;
+  std::map<std::string, AppearanceGaze> by_subject;
   std::string source;
 };
 
-// The appearance pitch models for the crops' subjects. Trained here on the
+// The appearance gaze models for the crops' subjects. Trained here on the
 // training folder's crops (all head poses), each subject's own left out;
 // without that folder, the shipped model, which must not have seen them.
 AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vector<ColumbiaCrop>& crops) {
@@ -197,28 +197,30 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
   for (const ColumbiaCrop& crop : crops) {
     if (std::find(subjects.begin(), subjects.end(), crop.subject) == subjects.end()) subjects.push_back(crop.subject);
   }
-  const std::filesystem::path training = ColumbiaDirOrDefault(options.pitch_training);
+  const std::filesystem::path training = ColumbiaDirOrDefault(options.appearance_training);
   AppearanceModels models;
   std::error_code ec;
   if (std::filesystem::is_directory(training, ec)) {
     Timer timer;
-    AppearancePitchTrainer trainer;
+    AppearanceGazeTrainer trainer;
     const std::vector<ColumbiaCrop> pool = ListColumbia(training);
     AddColumbiaCrops(pool, trainer);
     models.by_subject = LeaveSubjectOut(trainer, subjects);
     models.source = fmt::format("trained on {} crops of {} subjects in {}, each evaluated subject left out", pool.size(),
                                 trainer.subjects().size(), training.string());
-    spdlog::info("appearance pitch: {} ({:.1f} s)", models.source, timer.Seconds());
+    spdlog::info("appearance gaze: {} ({:.1f} s)", models.source, timer.Seconds());
     return models;
   }
-  if (!options.pitch_training.empty()) Fail(ExitCode::kBadInput, "--pitch-training {}: no such folder", training.string());
-  const std::filesystem::path shipped = DefaultAppearancePitchPath();
-  const AppearancePitch model = AppearancePitch::Load(shipped);
+  if (!options.appearance_training.empty()) {
+    Fail(ExitCode::kBadInput, "--appearance-training {}: no such folder", training.string());
+  }
+  const std::filesystem::path shipped = DefaultAppearanceModelPath();
+  const AppearanceGaze model = AppearanceGaze::Load(shipped);
   for (const std::string& subject : subjects) {
     if (std::find(model.subjects().begin(), model.subjects().end(), subject) != model.subjects().end()) {
       Fail(ExitCode::kUsage,
-           "{} was trained on subject {}, so its figures would be in-sample; pass --pitch-training DIR (the crops to "
-           "train on, each evaluated subject left out) or --fit appearance_pitch=0",
+           "{} was trained on subject {}, so its figures would be in-sample; pass --appearance-training DIR (the crops "
+           "to train on, each evaluated subject left out) or --fit appearance_pitch=0 appearance_yaw=0",
            shipped.string(), subject);
     }
     models.by_subject.emplace(subject, model);
@@ -229,7 +231,7 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
 
 int RunColumbiaEval(const EvalOptions& options) {
   const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
-  const bool use_appearance = fit_options.weights.appearance_pitch > 0;
+  const bool use_appearance = fit_options.weights.appearance_pitch > 0 || fit_options.weights.appearance_yaw > 0;
   const AppearanceModels appearance = use_appearance ? AppearanceModelsFor(options, crops) : AppearanceModels{};
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;
@@ -253,10 +255,10 @@ int RunColumbiaEval(const EvalOptions& options) {
                                 "head_label_yaw", "pitch", "yaw", "pitch_error", "yaw_error", "head_pitch", "head_yaw",
                                 "camera_pitch", "camera_yaw", "camera_pitch_error", "camera_yaw_error", "seconds",
                                 "face_pitch", "face_yaw", "face_camera_pitch", "face_camera_yaw", "energy",
-                                "appearance_pitch"});
+                                "appearance_pitch", "appearance_yaw"});
     std::map<std::string, const ColumbiaPhoto*> photo_of;
     for (const ColumbiaPhoto& photo : photos) photo_of[photo.crop.Photo()] = &photo;
-    auto number = [](double value) { return fmt::format("{:.3f}", value); };
+    auto number = [](double value) { return std::isnan(value) ? std::string() : fmt::format("{:.3f}", value); };
     for (const ColumbiaFit& fit : fits) {
       const ColumbiaPhoto& photo = *photo_of.at(fit.crop.Photo());
       const Eigen::Vector2d head_label = fit.crop.Label(GazeFrame::kHead);
@@ -268,7 +270,7 @@ int RunColumbiaEval(const EvalOptions& options) {
                   number(fit.in_camera.pitch_error), number(fit.in_camera.yaw_error), number(fit.seconds),
                   number(photo.in_head.pitch), number(photo.in_head.yaw), number(photo.in_camera.pitch),
                   number(photo.in_camera.yaw), fmt::format("{:.6f}", fit.energy),
-                  std::isnan(fit.appearance_pitch) ? std::string() : number(fit.appearance_pitch)});
+                  number(fit.appearance.pitch), number(fit.appearance.yaw)});
     }
     csv.Finish();
   }
@@ -282,7 +284,7 @@ int RunColumbiaEval(const EvalOptions& options) {
     result["threads"] = options.threads;
     result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
     result["fit_options"] = FitOptionsToJson(fit_options);
-    result["appearance_pitch"] = use_appearance ? appearance.source : "off";
+    result["appearance_prior"] = use_appearance ? appearance.source : "off";
     for (const auto& [subject, summary] : by_subject) result["by_subject"][subject] = ToJson(summary, "photos");
     result["subject_resampling"] = {{"subjects", spread.subjects},
                                     {"yaw_mean_p5_deg", RoundTo(spread.yaw_low, 3)},
@@ -332,7 +334,7 @@ int RunColumbiaEval(const EvalOptions& options) {
                spread.subjects, spread.draws, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
   }
   fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)" : "estimated from each crop");
-  fmt::print("appearance pitch prior: {}\n", use_appearance ? appearance.source : "off");
+  fmt::print("appearance gaze prior: {}\n", use_appearance ? appearance.source : "off");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
   if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
   return 0;
@@ -519,9 +521,9 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")->check(CLI::PositiveNumber);
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
-  columbia->add_option("--pitch-training", options->pitch_training,
-                       "Labelled crops to train the appearance pitch prior on, each evaluated subject left out "
-                       "(default: ../shared/data/columbia-eyes; without it, the shipped models/appearance_pitch.json)");
+  columbia->add_option("--appearance-training", options->appearance_training,
+                       "Labelled crops to train the appearance gaze prior on, each evaluated subject left out "
+                       "(default: ../shared/data/columbia-eyes; without it, the shipped models/appearance_gaze.json)");
   columbia->add_flag("--known-head-pose", options->known_head_pose,
                      "Give the fitter the head's yaw from the file name (-P) instead of estimating it from one eye");
   AddCommonOptions(*columbia, options->common);

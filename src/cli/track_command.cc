@@ -10,7 +10,7 @@
 
 #include "cli/common.h"
 #include "cli/fitting.h"
-#include "gazedirector/fit/appearance_pitch.h"
+#include "gazedirector/fit/appearance_gaze.h"
 #include "gazedirector/fit/fit_options.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/io/fit_io.h"
@@ -72,13 +72,14 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   fit_options.work_width = kEyePatchWorkWidth;
   for (const std::string& assignment : options.fitting.fit) SetFitOption(fit_options, assignment);
   Fitter fitter(setup.model, fit_options);
-  // The crop's appearance pitch, the fit's prior on gaze pitch (off at weight 0).
-  double appearance_pitch = std::numeric_limits<double>::quiet_NaN();
-  if (fitter.options().weights.appearance_pitch > 0) {
-    appearance_pitch = AppearancePitch::Load(DefaultAppearancePitchPath()).Predict(crop, eye);
+  // The crop's appearance reading, the fit's prior on its gaze (off at weight 0).
+  AppearanceReading appearance;
+  const EnergyWeights& weights = fitter.options().weights;
+  if (weights.appearance_pitch > 0 || weights.appearance_yaw > 0) {
+    appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
   FaceFit fit;
-  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, 0.76, 0, appearance_pitch);
+  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, 0.76, 0, appearance);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};
   fit.has_face = false;
   const Camera camera = Fitter::EyePatchCamera(crop.size());
@@ -91,7 +92,8 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   }
   spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head (appearance prior {}), energy {:.4f}{} -> {}",
                options.input, options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
-               std::isnan(appearance_pitch) ? std::string("off") : fmt::format("{:.1f}", appearance_pitch),
+               std::isnan(appearance.pitch) ? std::string("off")
+                                            : fmt::format("pitch {:.1f} yaw {:.1f}", appearance.pitch, appearance.yaw),
                fit.fit.terms.total(), fit.fit.good ? "" : " (poor fit: " + fit.fit.note + ")", options.output);
   return 0;
 }

@@ -1,12 +1,12 @@
-// `gazedirector train-pitch`: trains the appearance pitch prior on labelled
-// Columbia crops and writes it, as models/appearance_pitch.json was made.
+// `gazedirector train-appearance`: trains the appearance gaze prior on labelled
+// Columbia crops and writes it, as models/appearance_gaze.json was made.
 #include <memory>
 
 #include <spdlog/spdlog.h>
 
 #include "cli/common.h"
 #include "gazedirector/eval/columbia.h"
-#include "gazedirector/fit/appearance_pitch.h"
+#include "gazedirector/fit/appearance_gaze.h"
 #include "gazedirector/util/timer.h"
 
 namespace gazedirector::cli {
@@ -19,17 +19,17 @@ struct TrainOptions {
   double ridge = 10.0;
 };
 
-int RunTrainPitch(const TrainOptions& options) {
+int RunTrainAppearance(const TrainOptions& options) {
   ApplyLogLevel(options.common);
   // Fails unless it is a folder with crops in it.
   const std::vector<ColumbiaCrop> crops = ListColumbia(ColumbiaDirOrDefault(options.dir));
   Timer timer;
-  AppearancePitchTrainer trainer(options.ridge);
+  AppearanceGazeTrainer trainer(options.ridge);
   AddColumbiaCrops(crops, trainer);
-  const AppearancePitch model = trainer.Solve();
+  const AppearanceGaze model = trainer.Solve();
   model.Save(options.output);
-  spdlog::info("trained on {} crops of {} subjects in {:.1f} s; wrote {}", model.samples(), model.subjects().size(),
-               timer.Seconds(), options.output);
+  spdlog::info("trained on {} crops of {} subjects (yaw on the {} frontal ones) in {:.1f} s; wrote {}",
+               model.pitch_samples(), model.subjects().size(), model.yaw_samples(), timer.Seconds(), options.output);
   return 0;
 }
 
@@ -38,14 +38,15 @@ int RunTrainPitch(const TrainOptions& options) {
 Command RegisterTrainCommand(CLI::App& root) {
   auto options = std::make_shared<TrainOptions>();
   CLI::App* app = root.add_subcommand(
-      "train-pitch", "Train the appearance pitch prior of eye-patch fits on labelled Columbia crops (all head poses)");
+      "train-appearance",
+      "Train the appearance gaze prior of eye-patch fits on labelled Columbia crops (pitch on all head poses, yaw on frontal ones)");
   app->add_option("dir", options->dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
-  app->add_option("-o,--output", options->output, "Write the model here (JSON), e.g. models/appearance_pitch.json")->required();
+  app->add_option("-o,--output", options->output, "Write the model here (JSON), e.g. models/appearance_gaze.json")->required();
   app->add_option("--ridge", options->ridge, "Penalty on the squared weights of the standardised pixels")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   AddCommonOptions(*app, options->common);
-  return {app, [options] { return RunTrainPitch(*options); }};
+  return {app, [options] { return RunTrainAppearance(*options); }};
 }
 
 }  // namespace gazedirector::cli

@@ -136,17 +136,20 @@ SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, Gaz
   return result;
 }
 
-void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearancePitchTrainer& trainer) {
+void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrainer& trainer) {
   for (const ColumbiaCrop& crop : crops) {
-    const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_GRAYSCALE);
+    // Read as the fits read it, so that training and reading see the same grey.
+    const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
     if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
-    trainer.Add(crop.subject, image, crop.ModelEye(), crop.Label(GazeFrame::kHead).x());
+    const Eigen::Vector2d label = crop.Label(GazeFrame::kHead);
+    const double yaw = crop.head_pose == 0 ? label.y() : std::numeric_limits<double>::quiet_NaN();
+    trainer.Add(crop.subject, image, crop.ModelEye(), label.x(), yaw);
   }
 }
 
-std::map<std::string, AppearancePitch> LeaveSubjectOut(const AppearancePitchTrainer& trainer,
-                                                       const std::vector<std::string>& subjects) {
-  std::map<std::string, AppearancePitch> models;
+std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTrainer& trainer,
+                                                      const std::vector<std::string>& subjects) {
+  std::map<std::string, AppearanceGaze> models;
   for (const std::string& subject : subjects) models.emplace(subject, trainer.Solve(subject));
   return models;
 }
@@ -154,7 +157,7 @@ std::map<std::string, AppearancePitch> LeaveSubjectOut(const AppearancePitchTrai
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
                                      const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int)>& progress,
-                                     const std::map<std::string, AppearancePitch>* appearance) {
+                                     const std::map<std::string, AppearanceGaze>* appearance) {
   std::vector<ColumbiaFit> fits(crops.size());
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
@@ -173,16 +176,16 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
         if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
         Timer timer;
-        double appearance_pitch = std::numeric_limits<double>::quiet_NaN();
+        AppearanceReading reading;
         if (appearance != nullptr) {
           const auto found = appearance->find(crop.subject);
-          if (found == appearance->end()) Fail(ExitCode::kInternal, "no appearance pitch model for subject {}", crop.subject);
-          appearance_pitch = found->second.Predict(image, crop.ModelEye());
+          if (found == appearance->end()) Fail(ExitCode::kInternal, "no appearance gaze model for subject {}", crop.subject);
+          reading = found->second.Read(image, crop.ModelEye());
         }
         const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, 0.76,
-                                                      known_head_pose ? crop.HeadYaw() : 0.0, appearance_pitch);
+                                                      known_head_pose ? crop.HeadYaw() : 0.0, reading);
         ColumbiaFit& fit = fits[i];
-        fit.appearance_pitch = appearance_pitch;
+        fit.appearance = reading;
         fit.crop = crop;
         fit.seconds = timer.Seconds();
         fit.energy = result.terms.total();

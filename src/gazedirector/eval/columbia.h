@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "gazedirector/fit/appearance_pitch.h"
+#include "gazedirector/fit/appearance_gaze.h"
 #include "gazedirector/fit/fitter.h"
 
 namespace gazedirector {
@@ -68,8 +68,8 @@ struct ColumbiaFit : GazeReadings {
   double head_pitch = 0, head_yaw = 0;  // the eye region's fitted rotation, degrees
   double energy = 0;  // the fit's final E
   double seconds = 0;
-  // The crop's appearance pitch (the prior the fit was pulled toward), NaN without one.
-  double appearance_pitch = std::numeric_limits<double>::quiet_NaN();
+  // The crop's appearance reading (the prior the fit was pulled toward), NaN without one.
+  AppearanceReading appearance;
   // Per Gauss-Newton iterate (0: the start): photometric energy and gaze
   // error in the head's frame (degrees, the angle between estimated and
   // labelled directions).
@@ -102,26 +102,30 @@ struct SubjectResampling {
 SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, GazeFrame frame, int draws = 2000,
                                    unsigned seed = 1);
 
-// Every crop's head-relative pitch label added to a trainer, by subject.
-void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearancePitchTrainer& trainer);
+// Every crop added to a trainer, by subject: its head-relative pitch label,
+// and its yaw label where the head faces the camera (head pose 0). A crop
+// barely shows how far the head is turned, so on all head poses one linear
+// reader learns yaw relative to the head poorly, and frontal eyes worst.
+void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrainer& trainer);
 
-// Appearance pitch models for an honest evaluation: for each of `subjects`,
+// Appearance gaze models for an honest evaluation: for each of `subjects`,
 // the trainer's model without that subject's crops, so that no crop is read
 // by a model that has seen its person.
-std::map<std::string, AppearancePitch> LeaveSubjectOut(const AppearancePitchTrainer& trainer,
-                                                       const std::vector<std::string>& subjects);
+std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTrainer& trainer,
+                                                      const std::vector<std::string>& subjects);
 
 // Fits every crop with `threads` fitters working side by side; `progress`
 // is called after each crop.
 // With `known_head_pose`, the eye region's yaw is the crop's HeadYaw() and
 // held there (from P in the file name), as when a face tracker supplies the
 // head pose; otherwise it is estimated. With `appearance` (models by
-// subject), each crop's gaze pitch is pulled toward its subject's model's
-// reading (EnergyWeights::appearance_pitch); a subject without a model fails.
+// subject), each crop's gaze is pulled toward its subject's model's reading
+// (EnergyWeights::appearance_pitch and appearance_yaw); a subject without a
+// model fails.
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
                                      const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int done)>& progress = nullptr,
-                                     const std::map<std::string, AppearancePitch>* appearance = nullptr);
+                                     const std::map<std::string, AppearanceGaze>* appearance = nullptr);
 
 // The angle between two gaze directions given as pitch and yaw (degrees).
 double GazeAngleBetween(double pitch_a, double yaw_a, double pitch_b, double yaw_b);

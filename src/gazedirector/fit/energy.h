@@ -18,9 +18,11 @@ struct EnergyWeights {
   double pose = 4e-5;         // λ_pose, per squared degree of eyelid-gaze mismatch
   double closure = 1e-5;      // per squared degree of eyelid closure: open eyes unless the image says otherwise
   double vergence = 2e-5;     // per squared degree of vergence: the eyes' axes meet far away unless the image says otherwise
-  // λ_app, per squared degree between the gaze pitch and the pitch the crop's
-  // appearance reads (AppearancePitch), where one is given (eye patches).
+  // Per squared degree between the gaze and what the crop's appearance reads
+  // (AppearanceGaze), where a reading is given (eye patches): λ_app,p for
+  // pitch, λ_app,y for yaw.
   double appearance_pitch = 1e-4;
+  double appearance_yaw = 3e-6;
 };
 
 // The energy's terms for one Φ; image and landmarks are normalised by the

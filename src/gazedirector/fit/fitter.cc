@@ -210,7 +210,7 @@ Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance,
 }
 
 FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
-                                 double head_yaw, double appearance_pitch) {
+                                 double head_yaw, const AppearanceReading& appearance) {
   const Camera camera = EyePatchCamera(crop.size());
   Parameters phi = EyePatchStart(crop.size(), eye, corner_distance, head_yaw);
   phi.gaze_pitch() = pitch;
@@ -229,7 +229,7 @@ FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, doub
   std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
   std::vector<Level> levels =
       Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, framing, targets, weights, eyes, scale);
-  for (Level& level : levels) level.problem->set_appearance_pitch(appearance_pitch);
+  for (Level& level : levels) level.problem->set_appearance(appearance);
   // One eye cannot tell the interocular distance or the vergence.
   ParameterMask free = options_.free;
   free[LayoutOf(Block::kInterocular).offset] = false;

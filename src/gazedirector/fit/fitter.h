@@ -97,10 +97,10 @@ class Fitter {
   Parameters EyePatchStart(cv::Size crop, int eye, double corner_distance = 0.76, double head_yaw = 0.0) const;
   static Camera EyePatchCamera(cv::Size crop);
   // The same, starting from a given gaze (pitch, yaw in degrees; the lids
-  // follow), with the gaze pitch pulled toward `appearance_pitch` (degrees,
-  // AppearancePitch's reading of the crop) unless it is NaN.
+  // follow), with the gaze pulled toward `appearance` (AppearanceGaze's
+  // reading of the crop; none where its angles are NaN).
   FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance = 0.76,
-                          double head_yaw = 0.0, double appearance_pitch = std::numeric_limits<double>::quiet_NaN());
+                          double head_yaw = 0.0, const AppearanceReading& appearance = {});
 
   FitOptions& options() { return options_; }
   const FitOptions& options() const { return options_; }

@@ -135,8 +135,10 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   terms.pose = weights_.pose * std::pow(phi.eyelid_pitch() - phi.gaze_pitch(), 2) +
                weights_.vergence * phi.vergence() * phi.vergence() +
                weights_.closure * phi.eyelid_closure() * phi.eyelid_closure();
-  const double appearance_miss = std::isnan(appearance_pitch_) ? 0.0 : phi.gaze_pitch() - appearance_pitch_;
-  terms.pose += weights_.appearance_pitch * appearance_miss * appearance_miss;
+  // Eye patches fit one eye with the vergence held at 0, so its yaw is the gaze yaw.
+  const double pitch_miss = std::isnan(appearance_.pitch) ? 0.0 : phi.gaze_pitch() - appearance_.pitch;
+  const double yaw_miss = std::isnan(appearance_.yaw) ? 0.0 : phi.gaze_yaw() - appearance_.yaw;
+  terms.pose += weights_.appearance_pitch * pitch_miss * pitch_miss + weights_.appearance_yaw * yaw_miss * yaw_miss;
 
   if (residuals == nullptr) return terms;
   work.foreground_index.assign(static_cast<std::size_t>(camera_.width) * camera_.height, -1);
@@ -174,7 +176,8 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   r[row] = static_cast<float>(std::sqrt(weights_.pose) * (phi.eyelid_pitch() - phi.gaze_pitch()));
   r[row + 1] = static_cast<float>(std::sqrt(weights_.vergence) * phi.vergence());
   r[row + 2] = static_cast<float>(std::sqrt(weights_.closure) * phi.eyelid_closure());
-  r[row + 3] = static_cast<float>(std::sqrt(weights_.appearance_pitch) * appearance_miss);
+  r[row + 3] = static_cast<float>(std::sqrt(weights_.appearance_pitch) * pitch_miss);
+  r[row + 4] = static_cast<float>(std::sqrt(weights_.appearance_yaw) * yaw_miss);
   return terms;
 }
 

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "gazedirector/fit/appearance_gaze.h"
 #include "gazedirector/fit/energy.h"
 #include "gazedirector/fit/landmark_model.h"
 #include "gazedirector/geometry/camera.h"
@@ -44,7 +45,8 @@ struct EvaluationWorkspace {
 //   landmarks  2 per landmark: (l' - l) sqrt(λ / |P|)
 //   stats      sqrt(λ_geo) β, sqrt(λ_tex) τ
 //   pose       sqrt(λ_pose) (θ_lid - θ_p), sqrt(λ_verg) θ_v, sqrt(λ_close) θ_close,
-//              sqrt(λ_app) (θ_p - θ_app) where an appearance pitch θ_app is given
+//              sqrt(λ_app,p) (θ_p - θ_app,p), sqrt(λ_app,y) (θ_y - θ_app,y) where
+//              the crop's appearance gives a reading θ_app
 class FittingProblem {
  public:
   FittingProblem(std::shared_ptr<const EyeRegionModel> model, const cv::Mat& observed_rgb, const Camera& camera,
@@ -56,8 +58,9 @@ class FittingProblem {
   // the model may move onto are included.
   void SetDomain(const RenderBuffers& current, int margin);
   int num_residuals() const;
-  // The residuals after the texture prior's: eyelid-gaze, vergence, closure, appearance pitch.
-  static constexpr int kPoseResiduals = 4;
+  // The residuals after the texture prior's: eyelid-gaze, vergence, closure,
+  // appearance pitch, appearance yaw.
+  static constexpr int kPoseResiduals = 5;
   int num_image_residuals() const { return 3 * static_cast<int>(domain_.size()); }
   const std::vector<int>& domain() const { return domain_; }
 
@@ -76,10 +79,10 @@ class FittingProblem {
   std::array<bool, 2> eyes() const { return eyes_; }
   const LandmarkModel& landmark_model() const { return landmark_model_; }
   const std::vector<Eigen::Vector2d>& target_landmarks() const { return targets_; }
-  // The gaze pitch (degrees) the crop's appearance reads (AppearancePitch),
-  // pulled toward with weight λ_app; NaN (the default) for none.
-  void set_appearance_pitch(double pitch_deg) { appearance_pitch_ = pitch_deg; }
-  double appearance_pitch() const { return appearance_pitch_; }
+  // The gaze the crop's appearance reads (AppearanceGaze), pulled toward with
+  // weights λ_app; NaN angles (the default) for none.
+  void set_appearance(const AppearanceReading& reading) { appearance_ = reading; }
+  const AppearanceReading& appearance() const { return appearance_; }
 
  private:
   std::shared_ptr<const EyeRegionModel> model_;
@@ -91,7 +94,7 @@ class FittingProblem {
   EnergyWeights weights_;
   std::array<bool, 2> eyes_;
   std::vector<int> domain_;
-  double appearance_pitch_ = std::numeric_limits<double>::quiet_NaN();
+  AppearanceReading appearance_;
 };
 
 }  // namespace gazedirector

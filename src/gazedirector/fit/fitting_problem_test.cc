@@ -79,22 +79,29 @@ TEST(FittingProblemTest, ResidualsSquareToTheEnergy) {
   }
 }
 
-// The appearance pitch prior adds λ_app (θ_p - θ_app)² to the pose term, in
-// the energy and in its last residual alike; without a reading it adds nothing.
-TEST(FittingProblemTest, TheAppearancePitchPullsTowardItsReading) {
+// The appearance gaze prior adds λ_app,p (θ_p - θ_app,p)² + λ_app,y (θ_y -
+// θ_app,y)² to the pose term, in the energy and in its last two residuals
+// alike; without a reading it adds nothing.
+TEST(FittingProblemTest, TheAppearanceGazePullsTowardItsReading) {
   CropProblem crop;
+  crop.phi.gaze_yaw() = 4;
   EvaluationWorkspace work(SharedModel());
   const CropProblem::OnItsDomain without = crop.EvaluateOnItsDomain(work);
-  EXPECT_EQ(without.residuals[without.residuals.size() - 1], 0.0f);
-  const double reading = -7;
-  crop.problem->set_appearance_pitch(reading);
+  const Eigen::Index last = without.residuals.size() - 1;
+  EXPECT_EQ(without.residuals[last - 1], 0.0f);
+  EXPECT_EQ(without.residuals[last], 0.0f);
+  const AppearanceReading reading{-7, 9};
+  crop.problem->set_appearance(reading);
   const CropProblem::OnItsDomain with = crop.EvaluateOnItsDomain(work);
-  const double weight = crop.problem->weights().appearance_pitch;
-  ASSERT_GT(weight, 0);
-  const double miss = crop.phi.gaze_pitch() - reading;
-  EXPECT_NEAR(with.terms.pose - without.terms.pose, weight * miss * miss, 1e-12);
+  const EnergyWeights& weights = crop.problem->weights();
+  ASSERT_GT(weights.appearance_pitch, 0);
+  ASSERT_GT(weights.appearance_yaw, 0);
+  const double pitch_miss = crop.phi.gaze_pitch() - reading.pitch, yaw_miss = crop.phi.gaze_yaw() - reading.yaw;
+  EXPECT_NEAR(with.terms.pose - without.terms.pose,
+              weights.appearance_pitch * pitch_miss * pitch_miss + weights.appearance_yaw * yaw_miss * yaw_miss, 1e-12);
   EXPECT_EQ(with.terms.image, without.terms.image);
-  EXPECT_NEAR(with.residuals[with.residuals.size() - 1], std::sqrt(weight) * miss, 1e-6);
+  EXPECT_NEAR(with.residuals[last - 1], std::sqrt(weights.appearance_pitch) * pitch_miss, 1e-6);
+  EXPECT_NEAR(with.residuals[last], std::sqrt(weights.appearance_yaw) * yaw_miss, 1e-6);
   EXPECT_NEAR(with.residuals.cast<double>().squaredNorm(), with.terms.total(), 1e-5 * with.terms.total());
 }
 

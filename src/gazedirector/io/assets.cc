@@ -28,8 +28,8 @@ const char* GetEnv(const char* name) {
 
 fs::path DefaultAssetsDir() { return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / ".." / "shared" / "assets").lexically_normal(); }
 
-fs::path DefaultAppearancePitchPath() {
-  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_pitch.json").lexically_normal();
+fs::path DefaultAppearanceModelPath() {
+  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_gaze.json").lexically_normal();
 }
 
 fs::path DefaultDataDir() {

@@ -32,8 +32,8 @@ class Assets {
 // data), fixed at build time; GAZEDIRECTOR_DATA overrides the latter.
 std::filesystem::path DefaultAssetsDir();
 std::filesystem::path DefaultDataDir();
-// The shipped appearance pitch prior (AppearancePitch), trained by
-// `gazedirector train-pitch` on every Columbia crop: models/ in the repository.
-std::filesystem::path DefaultAppearancePitchPath();
+// The shipped appearance gaze prior (AppearanceGaze), trained by
+// `gazedirector train-appearance` on every Columbia crop: models/ in the repository.
+std::filesystem::path DefaultAppearanceModelPath();
 
 }  // namespace gazedirector
