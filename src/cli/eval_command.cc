@@ -190,7 +190,7 @@ struct AppearanceModels {
 };
 
 // The appearance gaze models for the crops' subjects. Trained here on the
-// training folder's crops (all head poses), each subject's own left out;
+// training folder's crops (AddColumbiaCrops), each subject's own left out;
 // without that folder, the shipped model, which must not have seen them.
 AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vector<ColumbiaCrop>& crops) {
   std::vector<std::string> subjects;

@@ -133,7 +133,7 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
 }
 
 Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle,
-                                                int& samples) const {
+                                                const char* name, int& samples) const {
   const int n = AppearanceGaze::NumFeatures();
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n + 1, n + 1);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
@@ -145,7 +145,7 @@ Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sum
     rhs += these.rhs;
     samples += these.samples;
   }
-  if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops");
+  if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
   // Neither the intercept nor the eye's side is penalised: they carry offsets.
   normal.diagonal().head(n - 1).array() += ridge_;
   return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
@@ -154,8 +154,8 @@ Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sum
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   AppearanceGaze model;
   model.weights_.resize(AppearanceGaze::NumFeatures() + 1, 2);
-  model.weights_.col(0) = SolveOne(left_out, &SubjectSums::pitch, model.pitch_samples_);
-  model.weights_.col(1) = SolveOne(left_out, &SubjectSums::yaw, model.yaw_samples_);
+  model.weights_.col(0) = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.pitch_samples_);
+  model.weights_.col(1) = SolveOne(left_out, &SubjectSums::yaw, "yaw", model.yaw_samples_);
   for (const auto& [subject, sums] : by_subject_) {
     if (subject != left_out) model.subjects_.push_back(subject);
   }

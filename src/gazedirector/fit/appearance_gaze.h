@@ -95,7 +95,7 @@ class AppearanceGazeTrainer {
   struct SubjectSums {
     Sums pitch, yaw;
   };
-  Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, int& samples) const;
+  Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
   std::map<std::string, SubjectSums> by_subject_;
   double ridge_;
 };

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 
 #include <gtest/gtest.h>
@@ -125,6 +126,11 @@ TEST(AppearanceGazeTest, BadModelsAndEmptyTrainingFailClearly) {
   std::ofstream(dir / "truncated.json") << R"({"format": "gazedirector-appear)";
   EXPECT_EQ(code_of([&] { AppearanceGaze::Load(dir / "truncated.json"); }), ExitCode::kAssets);
   EXPECT_EQ(code_of([] { AppearanceGazeTrainer().Solve(); }), ExitCode::kBadInput);
+  // Crops with a pitch label but none with a yaw label (no frontal ones) train no model.
+  AppearanceGazeTrainer pitch_only;
+  const cv::Mat crop = cv::imread(testing::DataPath("columbia-eyes/0003_2m_15P_10V_10H_R.jpg").string());
+  pitch_only.Add("0003", crop, kLeftEye, 10, std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(code_of([&] { pitch_only.Solve(); }), ExitCode::kBadInput);
   EXPECT_EQ(code_of([] { AppearanceGaze::Features(cv::Mat(), kLeftEye); }), ExitCode::kBadInput);
 }
 
