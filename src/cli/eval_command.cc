@@ -231,7 +231,7 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
 
 int RunColumbiaEval(const EvalOptions& options) {
   const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
-  const bool use_appearance = fit_options.weights.appearance_pitch > 0 || fit_options.weights.appearance_yaw > 0;
+  const bool use_appearance = fit_options.weights.UsesAppearance();
   const AppearanceModels appearance = use_appearance ? AppearanceModelsFor(options, crops) : AppearanceModels{};
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;

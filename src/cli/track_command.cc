@@ -1,7 +1,6 @@
 // gazedirector track: fit the eye-region model to every face of an image or
 // video, and estimate gaze.
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <optional>
 
@@ -74,8 +73,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   Fitter fitter(setup.model, fit_options);
   // The crop's appearance reading, the fit's prior on its gaze (off at weight 0).
   AppearanceReading appearance;
-  const EnergyWeights& weights = fitter.options().weights;
-  if (weights.appearance_pitch > 0 || weights.appearance_yaw > 0) {
+  if (fitter.options().weights.UsesAppearance()) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
   FaceFit fit;

@@ -22,6 +22,13 @@ constexpr const char* kFormat = "gazedirector-appearance-gaze-1";
 // Yaw is learned in the mirrored frame, where both eyes turn alike.
 double MirroredYawSign(int eye) { return eye == kLeftEye ? -1.0 : 1.0; }
 
+// A regression's input: the features, then 1 for the intercept.
+Eigen::VectorXd RowOf(const cv::Mat& crop, int eye) {
+  Eigen::VectorXd row(AppearanceGaze::NumFeatures() + 1);
+  row << AppearanceGaze::Features(crop, eye), 1.0;
+  return row;
+}
+
 }  // namespace
 
 int AppearanceGaze::NumFeatures() { return kBandRows * kBandColumns + 1; }
@@ -54,10 +61,7 @@ Eigen::VectorXd AppearanceGaze::Features(const cv::Mat& crop, int eye) {
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye) const {
-  const int n = NumFeatures();
-  Eigen::VectorXd row(n + 1);
-  row << Features(crop, eye), 1.0;
-  const Eigen::Vector2d angles = weights_.transpose() * row;
+  const Eigen::Vector2d angles = weights_.transpose() * RowOf(crop, eye);
   return {angles[0], MirroredYawSign(eye) * angles[1]};
 }
 
@@ -125,8 +129,7 @@ void AppearanceGazeTrainer::Sums::Add(const Eigen::VectorXd& row, double label) 
 
 void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop, int eye, double pitch_deg,
                                 double yaw_deg) {
-  Eigen::VectorXd row(AppearanceGaze::NumFeatures() + 1);
-  row << AppearanceGaze::Features(crop, eye), 1.0;
+  const Eigen::VectorXd row = RowOf(crop, eye);
   SubjectSums& sums = by_subject_[subject];
   sums.pitch.Add(row, pitch_deg);
   sums.yaw.Add(row, MirroredYawSign(eye) * yaw_deg);

@@ -23,6 +23,9 @@ struct EnergyWeights {
   // pitch, λ_app,y for yaw.
   double appearance_pitch = 1e-4;
   double appearance_yaw = 3e-6;
+
+  // Whether an eye patch's fit needs the appearance reading at all.
+  bool UsesAppearance() const { return appearance_pitch > 0 || appearance_yaw > 0; }
 };
 
 // The energy's terms for one Φ; image and landmarks are normalised by the
