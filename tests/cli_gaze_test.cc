@@ -196,12 +196,17 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.json"), &output), 0) << output;
   std::ifstream stream(dir / "gaze.json");
   const nlohmann::json model = nlohmann::json::parse(stream);
-  EXPECT_EQ(model["pitch_samples"].get<int>(), 84);
-  EXPECT_EQ(model["yaw_samples"].get<int>(), 84);  // all frontal
+  for (const char* angle : {"pitch", "frontal_yaw", "yaw", "head_yaw"}) {
+    EXPECT_EQ(model["samples"][angle].get<int>(), 84) << angle;  // all frontal
+  }
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
-  // The 8 x 12 band, the eye's side and the intercept, for pitch and for yaw.
-  EXPECT_EQ(model["pitch_weights"].size(), 98u);
-  EXPECT_EQ(model["mirrored_yaw_weights"].size(), 98u);
+  // The 8 x 12 band, the eye's side and the intercept, for pitch and frontal
+  // yaw; the band, 324 gradient bins, the side and the intercept for the
+  // whole crop's yaw and head yaw.
+  EXPECT_EQ(model["weights"]["pitch"].size(), 98u);
+  EXPECT_EQ(model["weights"]["frontal_mirrored_yaw"].size(), 98u);
+  EXPECT_EQ(model["weights"]["mirrored_yaw"].size(), 422u);
+  EXPECT_EQ(model["weights"]["mirrored_head_yaw"].size(), 422u);
   EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "gaze.json") + " -o " + Quote(dir / "none.json"), &output), 4)
       << output;
   EXPECT_EQ(RunCli("train-appearance " + Quote(dir) + " -o " + Quote(dir / "none.json"), &output), 4) << output;

@@ -157,11 +157,10 @@ std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::fil
 
 // The fitter's options for the 64x64 crops.
 FitOptions ColumbiaFitOptions(const EvalOptions& options) {
-  FitOptions fit_options;
-  fit_options.work_width = kEyePatchWorkWidth;
-  if (options.iterations > 0) fit_options.max_iterations = options.iterations;
-  for (const std::string& assignment : options.fit_options) SetFitOption(fit_options, assignment);
-  return fit_options;
+  std::vector<std::string> assignments;
+  if (options.iterations > 0) assignments.push_back(fmt::format("iterations={}", options.iterations));
+  assignments.insert(assignments.end(), options.fit_options.begin(), options.fit_options.end());
+  return EyePatchFitOptions(assignments);
 }
 
 // What both Columbia evaluations start from.
@@ -255,7 +254,7 @@ int RunColumbiaEval(const EvalOptions& options) {
                                 "head_label_yaw", "pitch", "yaw", "pitch_error", "yaw_error", "head_pitch", "head_yaw",
                                 "camera_pitch", "camera_yaw", "camera_pitch_error", "camera_yaw_error", "seconds",
                                 "face_pitch", "face_yaw", "face_camera_pitch", "face_camera_yaw", "energy",
-                                "appearance_pitch", "appearance_yaw"});
+                                "appearance_pitch", "appearance_yaw", "appearance_head_yaw"});
     std::map<std::string, const ColumbiaPhoto*> photo_of;
     for (const ColumbiaPhoto& photo : photos) photo_of[photo.crop.Photo()] = &photo;
     auto number = [](double value) { return std::isnan(value) ? std::string() : fmt::format("{:.3f}", value); };
@@ -270,7 +269,7 @@ int RunColumbiaEval(const EvalOptions& options) {
                   number(fit.in_camera.pitch_error), number(fit.in_camera.yaw_error), number(fit.seconds),
                   number(photo.in_head.pitch), number(photo.in_head.yaw), number(photo.in_camera.pitch),
                   number(photo.in_camera.yaw), fmt::format("{:.6f}", fit.energy),
-                  number(fit.appearance.pitch), number(fit.appearance.yaw)});
+                  number(fit.appearance.pitch), number(fit.appearance.yaw), number(fit.appearance.head_yaw)});
     }
     csv.Finish();
   }

@@ -67,17 +67,14 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   const cv::Mat crop = ReadImage(options.input);
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
   // Eye patches are fitted as `eval columbia` fits its crops.
-  FitOptions fit_options;
-  fit_options.work_width = kEyePatchWorkWidth;
-  for (const std::string& assignment : options.fitting.fit) SetFitOption(fit_options, assignment);
-  Fitter fitter(setup.model, fit_options);
-  // The crop's appearance reading, the fit's prior on its gaze (off at weight 0).
+  Fitter fitter(setup.model, EyePatchFitOptions(options.fitting.fit));
+  // The crop's appearance reading, the fit's prior on its gaze and head yaw (off at weight 0).
   AppearanceReading appearance;
   if (fitter.options().weights.UsesAppearance()) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
   FaceFit fit;
-  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, 0.76, 0, appearance);
+  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, 0.76, appearance.HeadYawOr(0.0), appearance);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};
   fit.has_face = false;
   const Camera camera = Fitter::EyePatchCamera(crop.size());
@@ -88,10 +85,13 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
     DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
     WriteImage(options.overlay, overlay, inputs);
   }
-  spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head (appearance prior {}), energy {:.4f}{} -> {}",
+  spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head, head yaw {:.1f} (appearance "
+               "prior {}), energy {:.4f}{} -> {}",
                options.input, options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
+               fit.fit.phi.rotation_deg().y(),
                std::isnan(appearance.pitch) ? std::string("off")
-                                            : fmt::format("pitch {:.1f} yaw {:.1f}", appearance.pitch, appearance.yaw),
+                                            : fmt::format("pitch {:.1f} yaw {:.1f} head yaw {:.1f}", appearance.pitch,
+                                                          appearance.yaw, appearance.head_yaw),
                fit.fit.terms.total(), fit.fit.good ? "" : " (poor fit: " + fit.fit.note + ")", options.output);
   return 0;
 }

@@ -28,8 +28,9 @@ int RunTrainAppearance(const TrainOptions& options) {
   AddColumbiaCrops(crops, trainer);
   const AppearanceGaze model = trainer.Solve();
   model.Save(options.output);
-  spdlog::info("trained on {} crops of {} subjects (yaw on the {} frontal ones) in {:.1f} s; wrote {}",
-               model.pitch_samples(), model.subjects().size(), model.yaw_samples(), timer.Seconds(), options.output);
+  spdlog::info("trained on {} crops of {} subjects ({} of them with the head facing the camera) in {:.1f} s; wrote {}",
+               model.samples().pitch, model.subjects().size(), model.samples().frontal_yaw, timer.Seconds(),
+               options.output);
   return 0;
 }
 

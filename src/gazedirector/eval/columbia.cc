@@ -143,8 +143,7 @@ void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrai
     const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
     if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
     const Eigen::Vector2d label = crop.Label(GazeFrame::kHead);
-    const double yaw = crop.head_pose == 0 ? label.y() : std::numeric_limits<double>::quiet_NaN();
-    trainer.Add(crop.subject, image, crop.ModelEye(), label.x(), yaw);
+    trainer.Add(crop.subject, image, crop.ModelEye(), {label.x(), label.y(), crop.HeadYaw()});
   }
 }
 
@@ -155,11 +154,31 @@ std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTraine
   return models;
 }
 
+std::map<std::string, double> ReadHeadYawByPhoto(const std::vector<ColumbiaCrop>& crops,
+                                                 const std::map<std::string, AppearanceGaze>& models) {
+  std::map<std::string, std::pair<double, int>> sums;
+  for (const ColumbiaCrop& crop : crops) {
+    const auto model = models.find(crop.subject);
+    if (model == models.end()) Fail(ExitCode::kInternal, "no appearance gaze model for subject {}", crop.subject);
+    const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
+    if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
+    auto& [sum, count] = sums[crop.Photo()];
+    sum += model->second.ReadHeadYaw(image, crop.ModelEye());
+    ++count;
+  }
+  std::map<std::string, double> head_yaws;
+  for (const auto& [photo, sum] : sums) head_yaws[photo] = sum.first / sum.second;
+  return head_yaws;
+}
+
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
                                      const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int)>& progress,
                                      const std::map<std::string, AppearanceGaze>* appearance) {
   std::vector<ColumbiaFit> fits(crops.size());
+  const std::map<std::string, double> read_head_yaws = appearance != nullptr && !known_head_pose
+                                                            ? ReadHeadYawByPhoto(crops, *appearance)
+                                                            : std::map<std::string, double>{};
   std::atomic<int> next{0}, done{0};
   std::mutex progress_mutex;
   std::exception_ptr error;
@@ -179,12 +198,11 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         Timer timer;
         AppearanceReading reading;
         if (appearance != nullptr) {
-          const auto found = appearance->find(crop.subject);
-          if (found == appearance->end()) Fail(ExitCode::kInternal, "no appearance gaze model for subject {}", crop.subject);
-          reading = found->second.Read(image, crop.ModelEye());
+          const double head_yaw = known_head_pose ? crop.HeadYaw() : read_head_yaws.at(crop.Photo());
+          reading = appearance->at(crop.subject).Read(image, crop.ModelEye(), head_yaw);
         }
-        const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, 0.76,
-                                                      known_head_pose ? crop.HeadYaw() : 0.0, reading);
+        const double start_head_yaw = known_head_pose ? crop.HeadYaw() : reading.HeadYawOr(0.0);
+        const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, 0.76, start_head_yaw, reading);
         ColumbiaFit& fit = fits[i];
         fit.appearance = reading;
         fit.crop = crop;

@@ -101,10 +101,8 @@ struct SubjectResampling {
 SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, GazeFrame frame, int draws = 2000,
                                    unsigned seed = 1);
 
-// Every crop added to a trainer, by subject: its head-relative pitch label,
-// and its yaw label where the head faces the camera (head pose 0). A crop
-// barely shows how far the head is turned, so on all head poses one linear
-// reader learns yaw relative to the head poorly, and frontal eyes worst.
+// Every crop added to a trainer, by subject, with its gaze relative to the
+// head and its head yaw as labels.
 void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrainer& trainer);
 
 // Appearance gaze models for an honest evaluation: for each of `subjects`,
@@ -113,14 +111,21 @@ void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrai
 std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTrainer& trainer,
                                                       const std::vector<std::string>& subjects);
 
+// The head's yaw each photo's crops read (Photo() -> degrees), the mean of
+// its eyes' readings by their subject's model: the turn of the head shows
+// better in two eyes than in one.
+std::map<std::string, double> ReadHeadYawByPhoto(const std::vector<ColumbiaCrop>& crops,
+                                                 const std::map<std::string, AppearanceGaze>& models);
+
 // Fits every crop with `threads` fitters working side by side; `progress`
 // is called after each crop.
 // With `known_head_pose`, the eye region's yaw is the crop's HeadYaw() and
 // held there (from P in the file name), as when a face tracker supplies the
 // head pose; otherwise it is estimated. With `appearance` (models by
 // subject), each crop's gaze is pulled toward its subject's model's reading
-// (EnergyWeights::appearance_pitch and appearance_yaw); a subject without a
-// model fails.
+// (EnergyWeights::appearance_pitch and appearance_yaw) for the known head
+// yaw or, without it, for its photo's reading (ReadHeadYawByPhoto), where the
+// fit then starts its head yaw; a subject without a model fails.
 std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std::shared_ptr<const EyeRegionModel> model,
                                      const FitOptions& options, int threads, bool known_head_pose,
                                      const std::function<void(int done)>& progress = nullptr,

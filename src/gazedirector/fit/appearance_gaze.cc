@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 
 #include <Eigen/Cholesky>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/objdetect.hpp>
 
 #include "gazedirector/io/atomic_output.h"
 #include "gazedirector/model/eye_region_model.h"
@@ -17,65 +19,123 @@ namespace {
 // The band of the kGrid x kGrid crop that holds the eye and its lids.
 constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
-constexpr const char* kFormat = "gazedirector-appearance-gaze-1";
+constexpr int kBandPixels = kBandRows * kBandColumns;
+constexpr const char* kFormat = "gazedirector-appearance-gaze-2";
 
-// Yaw is learned in the mirrored frame, where both eyes turn alike.
+// Yaws are learned in the mirrored frame, where both eyes turn alike.
 double MirroredYawSign(int eye) { return eye == kLeftEye ? -1.0 : 1.0; }
 
-// A regression's input: the features, then 1 for the intercept.
-Eigen::VectorXd RowOf(const cv::Mat& crop, int eye) {
-  Eigen::VectorXd row(AppearanceGaze::NumFeatures() + 1);
-  row << AppearanceGaze::Features(crop, eye), 1.0;
-  return row;
+// 16-pixel blocks of four 8-pixel cells, 9 orientations.
+const cv::HOGDescriptor& Hog() {
+  static const cv::HOGDescriptor hog(cv::Size(AppearanceGaze::kHogSize, AppearanceGaze::kHogSize), cv::Size(16, 16),
+                                     cv::Size(8, 8), cv::Size(8, 8), 9);
+  return hog;
 }
 
-}  // namespace
-
-int AppearanceGaze::NumFeatures() { return kBandRows * kBandColumns + 1; }
-
-Eigen::VectorXd AppearanceGaze::Features(const cv::Mat& crop, int eye) {
+// The crop in grey, the subject's left eye mirrored.
+cv::Mat MirroredGrey(const cv::Mat& crop, int eye) {
   if (crop.empty()) Fail(ExitCode::kBadInput, "appearance gaze: empty crop");
   cv::Mat grey;
   if (crop.channels() == 3) {
     cv::cvtColor(crop, grey, cv::COLOR_BGR2GRAY);
   } else if (crop.channels() == 1) {
-    grey = crop;
+    grey = crop.clone();
   } else {
     Fail(ExitCode::kBadInput, "appearance gaze: a crop needs 1 or 3 channels, not {}", crop.channels());
   }
+  if (eye == kLeftEye) cv::flip(grey, grey, 1);
+  return grey;
+}
+
+// The band's pixels, standardised.
+Eigen::VectorXd BandPixels(const cv::Mat& grey) {
   cv::Mat small;
-  cv::resize(grey, small, cv::Size(kGrid, kGrid), 0, 0, cv::INTER_AREA);
-  if (eye == kLeftEye) cv::flip(small, small, 1);
+  cv::resize(grey, small, cv::Size(AppearanceGaze::kGrid, AppearanceGaze::kGrid), 0, 0, cv::INTER_AREA);
   cv::Mat band;
   small(cv::Rect(kFirstColumn, kFirstRow, kBandColumns, kBandRows)).convertTo(band, CV_64F);
   cv::Scalar mean, deviation;
   cv::meanStdDev(band, mean, deviation);
-  Eigen::VectorXd features(NumFeatures());
+  Eigen::VectorXd pixels(kBandPixels);
   for (int y = 0; y < kBandRows; ++y) {
     for (int x = 0; x < kBandColumns; ++x) {
-      features[y * kBandColumns + x] = (band.at<double>(y, x) - mean[0]) / (deviation[0] + 1e-6);
+      pixels[y * kBandColumns + x] = (band.at<double>(y, x) - mean[0]) / (deviation[0] + 1e-6);
     }
   }
-  features[NumFeatures() - 1] = MirroredYawSign(eye);
-  return features;
+  return pixels;
 }
 
-AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye) const {
-  const Eigen::Vector2d angles = weights_.transpose() * RowOf(crop, eye);
-  return {angles[0], MirroredYawSign(eye) * angles[1]};
+Eigen::VectorXd Gradients(const cv::Mat& grey) {
+  cv::Mat small;
+  cv::resize(grey, small, cv::Size(AppearanceGaze::kHogSize, AppearanceGaze::kHogSize), 0, 0, cv::INTER_AREA);
+  std::vector<float> histogram;
+  Hog().compute(small, histogram);
+  return Eigen::Map<const Eigen::VectorXf>(histogram.data(), static_cast<Eigen::Index>(histogram.size())).cast<double>();
+}
+
+Eigen::VectorXd BandRow(const cv::Mat& grey, int eye) {
+  Eigen::VectorXd row(AppearanceGaze::NumBandFeatures() + 1);
+  row << BandPixels(grey), MirroredYawSign(eye), 1.0;
+  return row;
+}
+
+Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
+  Eigen::VectorXd row(AppearanceGaze::NumCropFeatures() + 1);
+  row << BandPixels(grey), Gradients(grey), MirroredYawSign(eye), 1.0;
+  return row;
+}
+
+std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+}  // namespace
+
+int AppearanceGaze::NumBandFeatures() { return kBandPixels + 1; }
+
+int AppearanceGaze::NumCropFeatures() {
+  return kBandPixels + static_cast<int>(Hog().getDescriptorSize()) + 1;
+}
+
+Eigen::VectorXd AppearanceGaze::BandFeatures(const cv::Mat& crop, int eye) {
+  return BandRow(MirroredGrey(crop, eye), eye).head(NumBandFeatures());
+}
+
+Eigen::VectorXd AppearanceGaze::CropFeatures(const cv::Mat& crop, int eye) {
+  return CropRow(MirroredGrey(crop, eye), eye).head(NumCropFeatures());
+}
+
+double AppearanceGaze::ReadHeadYaw(const cv::Mat& crop, int eye) const {
+  return MirroredYawSign(eye) * head_yaw_.dot(CropRow(MirroredGrey(crop, eye), eye));
+}
+
+AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head_yaw) const {
+  const cv::Mat grey = MirroredGrey(crop, eye);
+  const Eigen::VectorXd band = BandRow(grey, eye);
+  const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
+  const double turned = yaw_.dot(CropRow(grey, eye));
+  AppearanceReading reading;
+  reading.pitch = pitch_.dot(band);
+  reading.yaw = MirroredYawSign(eye) * (frontal * frontal_yaw_.dot(band) + (1 - frontal) * turned);
+  reading.head_yaw = head_yaw;
+  return reading;
 }
 
 nlohmann::json AppearanceGaze::ToJson() const {
-  auto column = [&](int c) { return std::vector<double>(weights_.col(c).data(), weights_.col(c).data() + weights_.rows()); };
   return {{"format", kFormat},
           {"grid", kGrid},
           {"band", {kFirstRow, kLastRow, kFirstColumn, kLastColumn}},
+          {"hog_size", kHogSize},
+          {"frontal_width_deg", kFrontalWidthDeg},
           {"ridge", ridge_},
-          {"pitch_samples", pitch_samples_},
-          {"yaw_samples", yaw_samples_},
+          {"samples",
+           {{"pitch", samples_.pitch},
+            {"frontal_yaw", samples_.frontal_yaw},
+            {"yaw", samples_.yaw},
+            {"head_yaw", samples_.head_yaw}}},
           {"subjects", subjects_},
-          {"pitch_weights", column(0)},
-          {"mirrored_yaw_weights", column(1)}};
+          {"weights",
+           {{"pitch", ToVector(pitch_)},
+            {"frontal_mirrored_yaw", ToVector(frontal_yaw_)},
+            {"mirrored_yaw", ToVector(yaw_)},
+            {"mirrored_head_yaw", ToVector(head_yaw_)}}}};
 }
 
 AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
@@ -88,27 +148,33 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
   try {
     const nlohmann::json json = nlohmann::json::parse(stream);
     if (json.at("format") != kFormat || json.at("grid") != kGrid ||
-        json.at("band") != nlohmann::json({kFirstRow, kLastRow, kFirstColumn, kLastColumn})) {
+        json.at("band") != nlohmann::json({kFirstRow, kLastRow, kFirstColumn, kLastColumn}) ||
+        json.at("hog_size") != kHogSize || json.at("frontal_width_deg") != kFrontalWidthDeg) {
       Fail(ExitCode::kAssets, "{}: not a {} model", path.string(), kFormat);
     }
-    model.weights_.resize(NumFeatures() + 1, 2);
-    int c = 0;
-    for (const char* key : {"pitch_weights", "mirrored_yaw_weights"}) {
-      const std::vector<double> weights = json.at(key).get<std::vector<double>>();
-      if (static_cast<int>(weights.size()) != NumFeatures() + 1) {
-        Fail(ExitCode::kAssets, "{}: {} {} where {} were expected", path.string(), weights.size(), key,
-             NumFeatures() + 1);
+    const nlohmann::json& weights = json.at("weights");
+    auto load = [&](const char* key, int features) {
+      const std::vector<double> values = weights.at(key).get<std::vector<double>>();
+      if (static_cast<int>(values.size()) != features + 1) {
+        Fail(ExitCode::kAssets, "{}: {} {} weights where {} were expected", path.string(), values.size(), key,
+             features + 1);
       }
-      model.weights_.col(c++) = Eigen::Map<const Eigen::VectorXd>(weights.data(), NumFeatures() + 1);
-    }
+      const Eigen::VectorXd loaded = Eigen::Map<const Eigen::VectorXd>(values.data(), features + 1);
+      if (!loaded.allFinite()) Fail(ExitCode::kAssets, "{}: {} weights are not finite", path.string(), key);
+      return loaded;
+    };
+    model.pitch_ = load("pitch", NumBandFeatures());
+    model.frontal_yaw_ = load("frontal_mirrored_yaw", NumBandFeatures());
+    model.yaw_ = load("mirrored_yaw", NumCropFeatures());
+    model.head_yaw_ = load("mirrored_head_yaw", NumCropFeatures());
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
     model.ridge_ = json.at("ridge").get<double>();
-    model.pitch_samples_ = json.at("pitch_samples").get<int>();
-    model.yaw_samples_ = json.at("yaw_samples").get<int>();
+    const nlohmann::json& samples = json.at("samples");
+    model.samples_ = {samples.at("pitch").get<int>(), samples.at("frontal_yaw").get<int>(),
+                      samples.at("yaw").get<int>(), samples.at("head_yaw").get<int>()};
   } catch (const nlohmann::json::exception& e) {
     Fail(ExitCode::kAssets, "{}: not a valid appearance gaze model ({})", path.string(), e.what());
   }
-  if (!model.weights_.allFinite()) Fail(ExitCode::kAssets, "{}: weights are not finite", path.string());
   return model;
 }
 
@@ -127,38 +193,49 @@ void AppearanceGazeTrainer::Sums::Add(const Eigen::VectorXd& row, double label) 
   ++samples;
 }
 
-void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop, int eye, double pitch_deg,
-                                double yaw_deg) {
-  const Eigen::VectorXd row = RowOf(crop, eye);
+void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop, int eye,
+                                const AppearanceLabel& label) {
+  const cv::Mat grey = MirroredGrey(crop, eye);
+  const Eigen::VectorXd band = BandRow(grey, eye);
+  const Eigen::VectorXd whole = CropRow(grey, eye);
+  const double sign = MirroredYawSign(eye);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   SubjectSums& sums = by_subject_[subject];
-  sums.pitch.Add(row, pitch_deg);
-  sums.yaw.Add(row, MirroredYawSign(eye) * yaw_deg);
+  sums.pitch.Add(band, label.pitch);
+  sums.frontal_yaw.Add(band, label.head_yaw == 0 ? sign * label.yaw : nan);
+  sums.yaw.Add(whole, sign * label.yaw);
+  sums.head_yaw.Add(whole, sign * label.head_yaw);
 }
 
 Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle,
                                                 const char* name, int& samples) const {
-  const int n = AppearanceGaze::NumFeatures();
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n + 1, n + 1);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
+  Eigen::MatrixXd normal;
+  Eigen::VectorXd rhs;
   samples = 0;
   for (const auto& [subject, sums] : by_subject_) {
     const Sums& these = sums.*angle;
     if (subject == left_out || these.samples == 0) continue;
-    normal += these.normal;
-    rhs += these.rhs;
+    if (samples == 0) {
+      normal = these.normal;
+      rhs = these.rhs;
+    } else {
+      normal += these.normal;
+      rhs += these.rhs;
+    }
     samples += these.samples;
   }
   if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
-  // Neither the intercept nor the eye's side is penalised: they carry offsets.
-  normal.diagonal().head(n - 1).array() += ridge_;
+  // Neither the intercept nor the eye's side (the last two) is penalised: they carry offsets.
+  normal.diagonal().head(normal.rows() - 2).array() += ridge_;
   return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
 }
 
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   AppearanceGaze model;
-  model.weights_.resize(AppearanceGaze::NumFeatures() + 1, 2);
-  model.weights_.col(0) = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.pitch_samples_);
-  model.weights_.col(1) = SolveOne(left_out, &SubjectSums::yaw, "yaw", model.yaw_samples_);
+  model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.samples_.pitch);
+  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera", model.samples_.frontal_yaw);
+  model.yaw_ = SolveOne(left_out, &SubjectSums::yaw, "yaw", model.samples_.yaw);
+  model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
   for (const auto& [subject, sums] : by_subject_) {
     if (subject != left_out) model.subjects_.push_back(subject);
   }

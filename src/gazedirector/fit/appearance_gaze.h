@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -12,48 +13,84 @@
 
 namespace gazedirector {
 
-// A gaze direction read from an eye crop's appearance: degrees relative to
-// the head, pitch positive up, yaw as EyeRegionModel::EyeYaw. NaN: no reading.
+// What an eye crop's appearance reads, in degrees: the gaze relative to the
+// head (pitch positive up, yaw as EyeRegionModel::EyeYaw) and the head's yaw
+// in the camera (Parameters::rotation_deg().y()). NaN: no reading.
 struct AppearanceReading {
   double pitch = std::numeric_limits<double>::quiet_NaN();
   double yaw = std::numeric_limits<double>::quiet_NaN();
+  double head_yaw = std::numeric_limits<double>::quiet_NaN();
+  // Where an eye patch's fit starts its head yaw: the reading, or `fallback`.
+  double HeadYawOr(double fallback) const { return std::isnan(head_yaw) ? fallback : head_yaw; }
 };
 
-// Reads the gaze of an eye crop framed as the Columbia crops are (the eye at
-// the centre, its corners about 0.76 of the width apart) from its pixels: two
-// ridge regressions, for pitch and for yaw, on the band of the crop that the
-// eye and its lids occupy, trained on labelled crops of other people.
+// A training crop's labels, in the same frames; a NaN leaves the crop out of
+// the regressions that learn that angle.
+using AppearanceLabel = AppearanceReading;
+
+// Reads gaze and head yaw from an eye crop framed as the Columbia crops are
+// (the eye at the centre, its corners about 0.76 of the width apart): ridge
+// regressions trained on labelled crops of other people.
 //
 // Why: fitted to one small crop, the model reads a person's lids as gaze (an
 // upper lid that rests low reads as looking down), a bias that differs from
 // person to person and that no setting of the energy removes
 // (docs/known-gaps.md). Yaw is read better by the fit, but the crops of one
-// data set share a yaw offset that the fit of a single crop cannot see, and a
-// crop barely shows how far the head is turned. Trained on many people, the
-// regressions learn what each gaze looks like across lid shapes. The fit pulls its gaze toward this reading
-// (EnergyWeights::appearance_pitch and appearance_yaw), so the estimate stays
-// the fitted model's, with a prior that knows about people.
+// data set share a yaw offset that the fit of a single crop cannot see, and
+// the fit barely sees how far the head is turned, which decides what its
+// gaze means relative to the head. Trained on many people, the regressions
+// learn what each gaze and each turn of the head look like across lid
+// shapes. The fit starts its head yaw at the reading and pulls its gaze
+// toward the gaze read (EnergyWeights::appearance_pitch and appearance_yaw),
+// so the estimate stays the fitted model's, with a prior that knows about
+// people.
+//
+// Four regressions:
+//   pitch        on the eye band, learned from every crop;
+//   frontal yaw  on the eye band, learned from crops whose head faces the
+//                camera (head yaw 0), where it reads best;
+//   yaw          on the whole crop, learned from every crop;
+//   head yaw     on the whole crop, learned from every crop.
+// The yaw read is the frontal yaw where the head yaw is near 0 and the
+// whole-crop yaw where the head is turned, blended by a Gaussian of width
+// kFrontalWidthDeg in the head yaw.
 class AppearanceGaze {
  public:
-  // The crop is shrunk to kGrid x kGrid grey pixels, and the band of rows
-  // 3-10 and columns 2-13 (the eye and lids) is standardised to zero mean and
-  // unit variance. The subject's left eye (kLeftEye) is mirrored, so that both
-  // eyes present their inner corner on the same side; a last feature says
-  // which eye it is (+1 right, -1 left), so that an offset that is the same
-  // on the image for both eyes can be learned although the mirroring turns it
-  // around for one of them.
+  // The eye band: the crop shrunk to kGrid x kGrid grey pixels, and the band
+  // of rows 3-10 and columns 2-13 (the eye and lids) standardised to zero
+  // mean and unit variance. The subject's left eye (kLeftEye) is mirrored, so
+  // that both eyes present their inner corner on the same side; a last
+  // feature says which eye it is (+1 right, -1 left), so that an offset that
+  // is the same on the image for both eyes can be learned although the
+  // mirroring turns it around for one of them.
   static constexpr int kGrid = 16;
-  static int NumFeatures();
-  static Eigen::VectorXd Features(const cv::Mat& crop, int eye);
+  static int NumBandFeatures();
+  static Eigen::VectorXd BandFeatures(const cv::Mat& crop, int eye);
+  // The whole crop: the band's pixels, then a histogram of oriented gradients
+  // of the (mirrored) crop shrunk to kHogSize pixels, which sees the skin and
+  // nose beside the eye that tell a turned head, then the eye's side.
+  static constexpr int kHogSize = 32;
+  static int NumCropFeatures();
+  static Eigen::VectorXd CropFeatures(const cv::Mat& crop, int eye);
+  // About the head-yaw reading's own error, degrees.
+  static constexpr double kFrontalWidthDeg = 7.0;
 
-  AppearanceReading Read(const cv::Mat& crop, int eye) const;
+  // The head's yaw alone.
+  double ReadHeadYaw(const cv::Mat& crop, int eye) const;
+  // The gaze, given the head's yaw: read from this crop, or better from both
+  // eyes of the face (the mean of their readings), or known otherwise.
+  AppearanceReading Read(const cv::Mat& crop, int eye, double head_yaw) const;
+  AppearanceReading Read(const cv::Mat& crop, int eye) const { return Read(crop, eye, ReadHeadYaw(crop, eye)); }
 
   // The subjects it was trained on (an evaluation on them would be in-sample).
   const std::vector<std::string>& subjects() const { return subjects_; }
   double ridge() const { return ridge_; }
   // The crops each regression learned from.
-  int pitch_samples() const { return pitch_samples_; }
-  int yaw_samples() const { return yaw_samples_; }
+  struct Samples {
+    int pitch = 0, frontal_yaw = 0, yaw = 0, head_yaw = 0;
+    bool operator==(const Samples&) const = default;
+  };
+  const Samples& samples() const { return samples_; }
 
   nlohmann::json ToJson() const;
   // Fails (ExitCode::kAssets) on a file that is missing or not such a model.
@@ -62,24 +99,24 @@ class AppearanceGaze {
 
  private:
   friend class AppearanceGazeTrainer;
-  // One column per angle (pitch, then yaw in the mirrored frame): a weight
-  // per feature, then the intercept.
-  Eigen::Matrix<double, Eigen::Dynamic, 2> weights_;
+  // A weight per feature, then the intercept. Yaws are learned in the
+  // mirrored frame, where both eyes turn alike.
+  Eigen::VectorXd pitch_, frontal_yaw_;  // on the band
+  Eigen::VectorXd yaw_, head_yaw_;       // on the whole crop
   std::vector<std::string> subjects_;
   double ridge_ = 0;
-  int pitch_samples_ = 0, yaw_samples_ = 0;
+  Samples samples_;
 };
 
 // Accumulates each subject's normal equations, so that a model that leaves
-// any one subject out (for an honest evaluation on that subject) is a single
-// small solve.
+// any one subject out (for an honest evaluation on that subject) is a few
+// small solves.
 class AppearanceGazeTrainer {
  public:
   // `ridge`: the penalty on the squared weights (the features are standardised).
   explicit AppearanceGazeTrainer(double ridge = 10.0);
-  // The crop as read from its file (colour or grey), its gaze relative to the
-  // head; a NaN angle leaves the crop out of that angle's regression.
-  void Add(const std::string& subject, const cv::Mat& crop, int eye, double pitch_deg, double yaw_deg);
+  // The crop as read from its file (colour or grey) and its labels.
+  void Add(const std::string& subject, const cv::Mat& crop, int eye, const AppearanceLabel& label);
   // Trained on every subject added except `left_out` (none when empty).
   AppearanceGaze Solve(const std::string& left_out = "") const;
   std::vector<std::string> subjects() const;
@@ -93,7 +130,7 @@ class AppearanceGazeTrainer {
     void Add(const Eigen::VectorXd& row, double label);
   };
   struct SubjectSums {
-    Sums pitch, yaw;
+    Sums pitch, frontal_yaw, yaw, head_yaw;
   };
   Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
   std::map<std::string, SubjectSums> by_subject_;

@@ -1,8 +1,8 @@
 #include "gazedirector/fit/appearance_gaze.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <limits>
 #include <map>
 
 #include <gtest/gtest.h>
@@ -45,9 +45,9 @@ TEST(AppearanceGazeTest, TheSubjectsLeftEyeIsReadMirrored) {
   ASSERT_FALSE(crop.empty());
   cv::Mat mirrored;
   cv::flip(crop, mirrored, 1);
-  const Eigen::VectorXd features = AppearanceGaze::Features(crop, kRightEye);
-  const Eigen::VectorXd mirrored_features = AppearanceGaze::Features(mirrored, kLeftEye);
-  const int n = AppearanceGaze::NumFeatures();
+  const Eigen::VectorXd features = AppearanceGaze::BandFeatures(crop, kRightEye);
+  const Eigen::VectorXd mirrored_features = AppearanceGaze::BandFeatures(mirrored, kLeftEye);
+  const int n = AppearanceGaze::NumBandFeatures();
   ASSERT_EQ(features.size(), n);
   const Eigen::VectorXd band = features.head(n - 1);
   EXPECT_TRUE(band.isApprox(mirrored_features.head(n - 1), 1e-12));
@@ -56,6 +56,16 @@ TEST(AppearanceGazeTest, TheSubjectsLeftEyeIsReadMirrored) {
   // The last feature tells the eyes apart.
   EXPECT_EQ(features[n - 1], 1.0);
   EXPECT_EQ(mirrored_features[n - 1], -1.0);
+  // The whole crop's features begin with the band's and are mirrored alike.
+  const Eigen::VectorXd whole = AppearanceGaze::CropFeatures(crop, kRightEye);
+  const Eigen::VectorXd mirrored_whole = AppearanceGaze::CropFeatures(mirrored, kLeftEye);
+  const int m = AppearanceGaze::NumCropFeatures();
+  ASSERT_EQ(whole.size(), m);
+  ASSERT_GT(m, n);
+  EXPECT_TRUE(whole.head(n - 1).isApprox(band, 1e-12));
+  EXPECT_TRUE(whole.head(m - 1).isApprox(mirrored_whole.head(m - 1), 1e-6));
+  EXPECT_EQ(whole[m - 1], 1.0);
+  EXPECT_EQ(mirrored_whole[m - 1], -1.0);
 }
 
 // The point of the regressions: read on people they were not trained on,
@@ -71,7 +81,8 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
   for (const ColumbiaCrop& crop : FrontalCrops()) {
     const AppearanceGaze& model = models.at(crop.subject);
     EXPECT_EQ(std::count(model.subjects().begin(), model.subjects().end(), crop.subject), 0);
-    const AppearanceReading reading = model.Read(cv::imread(crop.path.string()), crop.ModelEye());
+    // The head known to face the camera: the band's regressions alone.
+    const AppearanceReading reading = model.Read(cv::imread(crop.path.string()), crop.ModelEye(), 0.0);
     readings[crop.subject][crop.vertical].push_back(reading.pitch);
     yaw_readings[crop.horizontal].push_back(reading.yaw);
     pitch_error += std::abs(reading.pitch - crop.vertical);
@@ -98,6 +109,46 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
   }
 }
 
+// A crop barely shows how far the head is turned, but on people the
+// regressions were not trained on, the two eyes of a photo tell a frontal
+// head from one turned by 15 degrees from one turned by 30, and with that
+// the gaze relative to the head. Every 3rd photo of all head poses.
+TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
+  std::map<std::string, AppearanceGaze> models;
+  for (const std::string& subject : FullTrainer().subjects()) models.emplace(subject, FullTrainer().Solve(subject));
+  std::vector<ColumbiaCrop> crops;
+  std::map<std::string, int> photos;
+  for (const ColumbiaCrop& crop : ListColumbia(testing::DataPath("columbia-eyes"))) {
+    const int index = photos.emplace(crop.Photo(), static_cast<int>(photos.size())).first->second;
+    if (index % 3 == 0) crops.push_back(crop);
+  }
+  const std::map<std::string, double> head_yaws = ReadHeadYawByPhoto(crops, models);
+  std::map<int, std::vector<double>> by_pose;  // head yaw label -> readings of photos
+  double head_error = 0, zero_head_error = 0;
+  for (const auto& [photo, head_yaw] : head_yaws) {
+    const auto crop = std::find_if(crops.begin(), crops.end(), [&](const ColumbiaCrop& c) { return c.Photo() == photo; });
+    by_pose[static_cast<int>(crop->HeadYaw())].push_back(head_yaw);
+    head_error += std::abs(head_yaw - crop->HeadYaw());
+    zero_head_error += std::abs(crop->HeadYaw());
+  }
+  ASSERT_EQ(by_pose.size(), 5u);
+  EXPECT_LT(head_error, 0.45 * zero_head_error);  // 0.32 when written
+  for (auto pose = std::next(by_pose.begin()); pose != by_pose.end(); ++pose) {
+    EXPECT_GT(Mean(pose->second) - Mean(std::prev(pose)->second), 8) << pose->first;  // 10-14 when written
+  }
+  // The gaze relative to the head, with the head's yaw read from the photo.
+  double yaw_error = 0, zero_yaw_error = 0;
+  for (const ColumbiaCrop& crop : crops) {
+    const AppearanceReading reading = models.at(crop.subject).Read(cv::imread(crop.path.string()), crop.ModelEye(),
+                                                                   head_yaws.at(crop.Photo()));
+    EXPECT_EQ(reading.head_yaw, head_yaws.at(crop.Photo()));
+    const double label = crop.Label(GazeFrame::kHead).y();
+    yaw_error += std::abs(reading.yaw - label);
+    zero_yaw_error += std::abs(label);
+  }
+  EXPECT_LT(yaw_error, 0.5 * zero_yaw_error);  // 0.32 when written
+}
+
 TEST(AppearanceGazeTest, ASavedModelReadsAlike) {
   const AppearanceGaze model = FullTrainer().Solve();
   EXPECT_EQ(model.subjects(), FullTrainer().subjects());
@@ -108,6 +159,8 @@ TEST(AppearanceGazeTest, ASavedModelReadsAlike) {
   const cv::Mat crop = cv::imread(testing::DataPath("columbia-eyes/0003_2m_0P_10V_10H_R.jpg").string());
   EXPECT_NEAR(loaded.Read(crop, kLeftEye).pitch, model.Read(crop, kLeftEye).pitch, 1e-9);
   EXPECT_NEAR(loaded.Read(crop, kLeftEye).yaw, model.Read(crop, kLeftEye).yaw, 1e-9);
+  EXPECT_NEAR(loaded.ReadHeadYaw(crop, kLeftEye), model.ReadHeadYaw(crop, kLeftEye), 1e-9);
+  EXPECT_EQ(loaded.samples(), model.samples());
 }
 
 TEST(AppearanceGazeTest, BadModelsAndEmptyTrainingFailClearly) {
@@ -126,12 +179,19 @@ TEST(AppearanceGazeTest, BadModelsAndEmptyTrainingFailClearly) {
   std::ofstream(dir / "truncated.json") << R"({"format": "gazedirector-appear)";
   EXPECT_EQ(code_of([&] { AppearanceGaze::Load(dir / "truncated.json"); }), ExitCode::kAssets);
   EXPECT_EQ(code_of([] { AppearanceGazeTrainer().Solve(); }), ExitCode::kBadInput);
-  // Crops with a pitch label but none with a yaw label (no frontal ones) train no model.
-  AppearanceGazeTrainer pitch_only;
+  // Crops of turned heads only train no frontal yaw regression.
+  AppearanceGazeTrainer turned_only;
   const cv::Mat crop = cv::imread(testing::DataPath("columbia-eyes/0003_2m_15P_10V_10H_R.jpg").string());
-  pitch_only.Add("0003", crop, kLeftEye, 10, std::numeric_limits<double>::quiet_NaN());
-  EXPECT_EQ(code_of([&] { pitch_only.Solve(); }), ExitCode::kBadInput);
-  EXPECT_EQ(code_of([] { AppearanceGaze::Features(cv::Mat(), kLeftEye); }), ExitCode::kBadInput);
+  turned_only.Add("0003", crop, kLeftEye, {10, -5, -15});
+  try {
+    turned_only.Solve();
+    ADD_FAILURE() << "trained without frontal crops";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ExitCode::kBadInput);
+    EXPECT_NE(std::string(error.what()).find("facing the camera"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(code_of([] { AppearanceGaze::BandFeatures(cv::Mat(), kLeftEye); }), ExitCode::kBadInput);
+  EXPECT_EQ(code_of([&] { AppearanceGaze::CropFeatures(cv::Mat(3, 3, CV_8UC2), kLeftEye); }), ExitCode::kBadInput);
 }
 
 // The shipped model is what `gazedirector train-appearance` makes of every crop in
@@ -142,8 +202,7 @@ TEST(AppearanceGazeTest, TheShippedModelIsTheOneTheDataMake) {
   AddColumbiaCrops(ListColumbia(testing::DataPath("columbia-eyes")), trainer);
   const AppearanceGaze retrained = trainer.Solve();
   EXPECT_EQ(retrained.subjects(), shipped.subjects());
-  EXPECT_EQ(retrained.pitch_samples(), shipped.pitch_samples());
-  EXPECT_EQ(retrained.yaw_samples(), shipped.yaw_samples());
+  EXPECT_EQ(retrained.samples(), shipped.samples());
   for (const ColumbiaCrop& crop : FrontalCrops()) {
     if (crop.vertical != 10 || crop.horizontal != 0) continue;
     const cv::Mat image = cv::imread(crop.path.string());
@@ -151,6 +210,7 @@ TEST(AppearanceGazeTest, TheShippedModelIsTheOneTheDataMake) {
     const AppearanceReading from_retrained = retrained.Read(image, crop.ModelEye());
     EXPECT_NEAR(from_shipped.pitch, from_retrained.pitch, 1e-6) << crop.path;
     EXPECT_NEAR(from_shipped.yaw, from_retrained.yaw, 1e-6) << crop.path;
+    EXPECT_NEAR(from_shipped.head_yaw, from_retrained.head_yaw, 1e-6) << crop.path;
   }
 }
 

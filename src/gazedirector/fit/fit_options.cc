@@ -118,6 +118,13 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
   found->second(options) = value;
 }
 
+FitOptions EyePatchFitOptions(const std::vector<std::string>& assignments) {
+  FitOptions options;
+  options.work_width = kEyePatchWorkWidth;
+  for (const std::string& assignment : assignments) SetFitOption(options, assignment);
+  return options;
+}
+
 std::vector<std::string> ListFitOptions() {
   std::vector<std::string> names = {"iterations", "work_width", "coarse_to_fine", "hold_rotation", "hold_shape", "gaze_search",
                                     "pitch_starts"};

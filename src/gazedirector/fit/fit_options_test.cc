@@ -62,5 +62,15 @@ TEST(FitOptionsTest, TheRecordNamesEveryOptionWithItsValue) {
   EXPECT_EQ(record["iterations"].get<int>(), FitOptions().max_iterations);
 }
 
+// Eye patches are fitted at their own working width unless told otherwise;
+// later assignments win.
+TEST(FitOptionsTest, EyePatchFitsStartFromTheirWorkingWidth) {
+  EXPECT_EQ(EyePatchFitOptions({}).work_width, kEyePatchWorkWidth);
+  EXPECT_NE(FitOptions().work_width, kEyePatchWorkWidth);
+  const FitOptions options = EyePatchFitOptions({"iterations=5", "work_width=96", "iterations=7"});
+  EXPECT_EQ(options.work_width, 96);
+  EXPECT_EQ(options.max_iterations, 7);
+}
+
 }  // namespace
 }  // namespace gazedirector
