@@ -68,7 +68,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
   // Eye patches are fitted as `eval columbia` fits its crops.
   Fitter fitter(setup.model, EyePatchFitOptions(options.fitting.fit));
-  // The crop's appearance reading, the fit's prior on its gaze and head yaw (off at weight 0).
+  // The crop's appearance reading: the fit's prior on its gaze and where its head yaw starts (off at weight 0).
   AppearanceReading appearance;
   if (fitter.options().weights.UsesAppearance()) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <mutex>
 #include <random>
@@ -82,6 +81,12 @@ GazeReading Read(double pitch, double yaw, const Eigen::Vector2d& label) {
   return {pitch, yaw, std::abs(pitch - label.x()), std::abs(yaw - label.y())};
 }
 
+const AppearanceGaze& ModelFor(const std::map<std::string, AppearanceGaze>& models, const std::string& subject) {
+  const auto found = models.find(subject);
+  if (found == models.end()) Fail(ExitCode::kInternal, "no appearance gaze model for subject {}", subject);
+  return found->second;
+}
+
 }  // namespace
 
 std::vector<ColumbiaPhoto> CombineEyes(const std::vector<ColumbiaFit>& fits) {
@@ -158,12 +163,11 @@ std::map<std::string, double> ReadHeadYawByPhoto(const std::vector<ColumbiaCrop>
                                                  const std::map<std::string, AppearanceGaze>& models) {
   std::map<std::string, std::pair<double, int>> sums;
   for (const ColumbiaCrop& crop : crops) {
-    const auto model = models.find(crop.subject);
-    if (model == models.end()) Fail(ExitCode::kInternal, "no appearance gaze model for subject {}", crop.subject);
+    const AppearanceGaze& model = ModelFor(models, crop.subject);
     const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
     if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
     auto& [sum, count] = sums[crop.Photo()];
-    sum += model->second.ReadHeadYaw(image, crop.ModelEye());
+    sum += model.ReadHeadYaw(image, crop.ModelEye());
     ++count;
   }
   std::map<std::string, double> head_yaws;
@@ -199,7 +203,7 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         AppearanceReading reading;
         if (appearance != nullptr) {
           const double head_yaw = known_head_pose ? crop.HeadYaw() : read_head_yaws.at(crop.Photo());
-          reading = appearance->at(crop.subject).Read(image, crop.ModelEye(), head_yaw);
+          reading = ModelFor(*appearance, crop.subject).Read(image, crop.ModelEye(), head_yaw);
         }
         const double start_head_yaw = known_head_pose ? crop.HeadYaw() : reading.HeadYawOr(0.0);
         const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, 0.76, start_head_yaw, reading);

@@ -25,7 +25,7 @@ constexpr const char* kFormat = "gazedirector-appearance-gaze-2";
 // Yaws are learned in the mirrored frame, where both eyes turn alike.
 double MirroredYawSign(int eye) { return eye == kLeftEye ? -1.0 : 1.0; }
 
-// 16-pixel blocks of four 8-pixel cells, 9 orientations.
+// 16-pixel blocks every 8 pixels, each of four 8-pixel cells, 9 orientations.
 const cv::HOGDescriptor& Hog() {
   static const cv::HOGDescriptor hog(cv::Size(AppearanceGaze::kHogSize, AppearanceGaze::kHogSize), cv::Size(16, 16),
                                      cv::Size(8, 8), cv::Size(8, 8), 9);
@@ -35,6 +35,7 @@ const cv::HOGDescriptor& Hog() {
 // The crop in grey, the subject's left eye mirrored.
 cv::Mat MirroredGrey(const cv::Mat& crop, int eye) {
   if (crop.empty()) Fail(ExitCode::kBadInput, "appearance gaze: empty crop");
+  if (crop.depth() != CV_8U) Fail(ExitCode::kBadInput, "appearance gaze: a crop needs 8-bit pixels");
   cv::Mat grey;
   if (crop.channels() == 3) {
     cv::cvtColor(crop, grey, cv::COLOR_BGR2GRAY);

@@ -192,6 +192,7 @@ TEST(AppearanceGazeTest, BadModelsAndEmptyTrainingFailClearly) {
   }
   EXPECT_EQ(code_of([] { AppearanceGaze::BandFeatures(cv::Mat(), kLeftEye); }), ExitCode::kBadInput);
   EXPECT_EQ(code_of([&] { AppearanceGaze::CropFeatures(cv::Mat(3, 3, CV_8UC2), kLeftEye); }), ExitCode::kBadInput);
+  EXPECT_EQ(code_of([&] { AppearanceGaze::CropFeatures(cv::Mat(64, 64, CV_16UC1), kLeftEye); }), ExitCode::kBadInput);
 }
 
 // The shipped model is what `gazedirector train-appearance` makes of every crop in
