@@ -116,6 +116,7 @@ AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head
   reading.pitch = pitch_.dot(band);
   reading.yaw = MirroredYawSign(eye) * (frontal * frontal_yaw_.dot(band) + (1 - frontal) * turned);
   reading.head_yaw = head_yaw;
+  reading.frontal = frontal;
   return reading;
 }
 

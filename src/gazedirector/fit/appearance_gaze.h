@@ -20,6 +20,9 @@ struct AppearanceReading {
   double pitch = std::numeric_limits<double>::quiet_NaN();
   double yaw = std::numeric_limits<double>::quiet_NaN();
   double head_yaw = std::numeric_limits<double>::quiet_NaN();
+  // How much of `yaw` is the frontal regression's: 1 where the head faces the
+  // camera, toward 0 as it turns (the rest is the whole crop's).
+  double frontal = 1.0;
   // Where an eye patch's fit starts its head yaw: the reading, or `fallback`.
   double HeadYawOr(double fallback) const { return std::isnan(head_yaw) ? fallback : head_yaw; }
 };

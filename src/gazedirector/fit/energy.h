@@ -23,9 +23,23 @@ struct EnergyWeights {
   // pitch, λ_app,y for yaw.
   double appearance_pitch = 1e-4;
   double appearance_yaw = 3e-6;
+  // λ_app,y is multiplied by this where the head reads turned (blended by
+  // AppearanceReading::frontal). A turned eye's fit reads about half its turn
+  // in the head, and the reading does better there, but a stronger pull also
+  // reaches frontal heads whose turn reads a few degrees off, and costs them
+  // more than it gains the turned ones on the paper's subset
+  // (docs/known-gaps.md, session 40); so by default it is 1.
+  double appearance_turned_factor = 1.0;
 
   // Whether an eye patch's fit needs the appearance reading at all.
   bool UsesAppearance() const { return appearance_pitch > 0 || appearance_yaw > 0; }
+  // λ for the yaw reading, by how frontal the head reads (1: facing the
+  // camera). Squared, so that the turned factor takes over only where the
+  // head clearly reads turned.
+  double AppearanceYaw(double frontal) const {
+    const double turned = (1 - frontal) * (1 - frontal);
+    return appearance_yaw * ((1 - turned) + turned * appearance_turned_factor);
+  }
 };
 
 // The energy's terms for one Φ; image and landmarks are normalised by the

@@ -26,6 +26,7 @@ const std::map<std::string, Accessor>& Options() {
       {"closure_prior", [](FitOptions& o) -> double& { return o.weights.closure; }},
       {"appearance_pitch", [](FitOptions& o) -> double& { return o.weights.appearance_pitch; }},
       {"appearance_yaw", [](FitOptions& o) -> double& { return o.weights.appearance_yaw; }},
+      {"appearance_turned_factor", [](FitOptions& o) -> double& { return o.weights.appearance_turned_factor; }},
       {"tolerance", [](FitOptions& o) -> double& { return o.tolerance; }},
       {"first_step", [](FitOptions& o) -> double& { return o.first_step; }},
       {"step_growth", [](FitOptions& o) -> double& { return o.step_growth; }},

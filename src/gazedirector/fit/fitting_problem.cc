@@ -138,7 +138,8 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   // Eye patches fit one eye with the vergence held at 0, so its yaw is the gaze yaw.
   const double pitch_miss = std::isnan(appearance_.pitch) ? 0.0 : phi.gaze_pitch() - appearance_.pitch;
   const double yaw_miss = std::isnan(appearance_.yaw) ? 0.0 : phi.gaze_yaw() - appearance_.yaw;
-  terms.pose += weights_.appearance_pitch * pitch_miss * pitch_miss + weights_.appearance_yaw * yaw_miss * yaw_miss;
+  const double yaw_weight = weights_.AppearanceYaw(appearance_.frontal);
+  terms.pose += weights_.appearance_pitch * pitch_miss * pitch_miss + yaw_weight * yaw_miss * yaw_miss;
 
   if (residuals == nullptr) return terms;
   work.foreground_index.assign(static_cast<std::size_t>(camera_.width) * camera_.height, -1);
@@ -177,7 +178,7 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   r[row + 1] = static_cast<float>(std::sqrt(weights_.vergence) * phi.vergence());
   r[row + 2] = static_cast<float>(std::sqrt(weights_.closure) * phi.eyelid_closure());
   r[row + 3] = static_cast<float>(std::sqrt(weights_.appearance_pitch) * pitch_miss);
-  r[row + 4] = static_cast<float>(std::sqrt(weights_.appearance_yaw) * yaw_miss);
+  r[row + 4] = static_cast<float>(std::sqrt(yaw_weight) * yaw_miss);
   return terms;
 }
 

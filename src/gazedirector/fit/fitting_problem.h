@@ -45,7 +45,8 @@ struct EvaluationWorkspace {
 //   stats      sqrt(λ_geo) β, sqrt(λ_tex) τ
 //   pose       sqrt(λ_pose) (θ_lid - θ_p), sqrt(λ_verg) θ_v, sqrt(λ_close) θ_close,
 //              sqrt(λ_app,p) (θ_p - θ_app,p), sqrt(λ_app,y) (θ_y - θ_app,y) where
-//              the crop's appearance gives a reading θ_app
+//              the crop's appearance gives a reading θ_app (λ_app,y raised
+//              by appearance_turned_factor as the head reads turned)
 class FittingProblem {
  public:
   FittingProblem(std::shared_ptr<const EyeRegionModel> model, const cv::Mat& observed_rgb, const Camera& camera,

@@ -103,6 +103,17 @@ TEST(FittingProblemTest, TheAppearanceGazePullsTowardItsReading) {
   EXPECT_NEAR(with.residuals[last - 1], std::sqrt(weights.appearance_pitch) * pitch_miss, 1e-6);
   EXPECT_NEAR(with.residuals[last], std::sqrt(weights.appearance_yaw) * yaw_miss, 1e-6);
   EXPECT_NEAR(with.residuals.cast<double>().squaredNorm(), with.terms.total(), 1e-5 * with.terms.total());
+
+  // Read from a turned head, the yaw is pulled harder by the turned factor.
+  crop.problem->weights().appearance_turned_factor = 10;
+  AppearanceReading turned = reading;
+  turned.frontal = 0;
+  crop.problem->set_appearance(turned);
+  const CropProblem::OnItsDomain with_turned = crop.EvaluateOnItsDomain(work);
+  EXPECT_NEAR(with_turned.residuals[last], std::sqrt(10 * weights.appearance_yaw) * yaw_miss, 1e-6);
+  EXPECT_NEAR(with_turned.terms.pose - with.terms.pose, 9 * weights.appearance_yaw * yaw_miss * yaw_miss, 1e-12);
+  // Half frontal is a quarter turned.
+  EXPECT_NEAR(weights.AppearanceYaw(0.5), weights.appearance_yaw * (0.75 + 0.25 * 10), 1e-15);
 }
 
 // No pixel counts more than the truncation T (times the eyeball weight), and
