@@ -29,7 +29,11 @@ struct AppearanceReading {
 
 // A training crop's labels, in the same frames; a NaN leaves the crop out of
 // the regressions that learn that angle.
-using AppearanceLabel = AppearanceReading;
+struct AppearanceLabel {
+  double pitch = std::numeric_limits<double>::quiet_NaN();
+  double yaw = std::numeric_limits<double>::quiet_NaN();
+  double head_yaw = std::numeric_limits<double>::quiet_NaN();
+};
 
 // Reads gaze and head yaw from an eye crop framed as the Columbia crops are
 // (the eye at the centre, its corners about 0.76 of the width apart): ridge
