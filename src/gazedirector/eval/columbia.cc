@@ -9,11 +9,11 @@
 #include <regex>
 #include <thread>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/assets.h"
+#include "gazedirector/io/image_io.h"
 #include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
@@ -145,8 +145,7 @@ SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, Gaz
 void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrainer& trainer) {
   for (const ColumbiaCrop& crop : crops) {
     // Read as the fits read it, so that training and reading see the same grey.
-    const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
-    if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
+    const cv::Mat image = ReadImage(crop.path);
     const Eigen::Vector2d label = crop.Label(GazeFrame::kHead);
     trainer.Add(crop.subject, image, crop.ModelEye(), {label.x(), label.y(), crop.HeadYaw()});
   }
@@ -164,8 +163,7 @@ std::map<std::string, double> ReadHeadYawByPhoto(const std::vector<ColumbiaCrop>
   std::map<std::string, std::pair<double, int>> sums;
   for (const ColumbiaCrop& crop : crops) {
     const AppearanceGaze& model = ModelFor(models, crop.subject);
-    const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
-    if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
+    const cv::Mat image = ReadImage(crop.path);
     auto& [sum, count] = sums[crop.Photo()];
     sum += model.ReadHeadYaw(image, crop.ModelEye());
     ++count;
@@ -197,8 +195,7 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
       for (int i; (i = next++) < static_cast<int>(crops.size());) {
         if (InterruptRequested()) return;
         const ColumbiaCrop& crop = crops[i];
-        const cv::Mat image = cv::imread(crop.path.string(), cv::IMREAD_COLOR);
-        if (image.empty()) Fail(ExitCode::kBadInput, "{}: cannot read", crop.path.string());
+        const cv::Mat image = ReadImage(crop.path);
         Timer timer;
         AppearanceReading reading;
         if (appearance != nullptr) {
