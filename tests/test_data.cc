@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "gazedirector/eval/columbia.h"
 #include "gazedirector/io/image_io.h"
 
 namespace gazedirector::testing {
@@ -33,6 +34,15 @@ std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector() {
 std::shared_ptr<const EyeRegionModel> SharedModel() {
   static const auto model = EyeRegionModel::Load(TestAssets());
   return model;
+}
+
+const AppearanceGazeTrainer& ColumbiaAppearanceTrainer() {
+  static const AppearanceGazeTrainer trainer = [] {
+    AppearanceGazeTrainer trained;
+    AddColumbiaCrops(ListColumbia(DataPath("columbia-eyes")), trained);
+    return trained;
+  }();
+  return trainer;
 }
 
 const MeanFace& SharedMeanFace() {

@@ -9,6 +9,7 @@
 #include "gazedirector/face/face_tracker.h"
 #include "gazedirector/face/landmark_detector.h"
 #include "gazedirector/face/mean_face.h"
+#include "gazedirector/fit/appearance_gaze.h"
 #include "gazedirector/fit/fitter.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/model/eye_region_model.h"
@@ -25,6 +26,10 @@ std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector();
 std::shared_ptr<const EyeRegionModel> SharedModel();
 // The assets' 3D mean face, read once per test binary.
 const MeanFace& SharedMeanFace();
+// Every Columbia crop (all head poses, as train-appearance trains) added to
+// an appearance gaze trainer, read once per test binary; its Solve(subject)
+// gives a model that has not seen that subject.
+const AppearanceGazeTrainer& ColumbiaAppearanceTrainer();
 // A fresh face tracker on the shared landmark model and the assets' mean face.
 FaceTracker MakeFaceTracker(const FaceTrackerOptions& options = {});
 

@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <iostream>
+#include <map>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "gazedirector/fit/fit_options.h"
 #include "gazedirector/geometry/rotation.h"
 
 #include "tests/test_data.h"
@@ -66,8 +68,7 @@ TEST(ColumbiaTest, EyesLookingIntoALensAroundTheHeadAreTurnedInTheHead) {
       crops.push_back(Crop(testing::DataPath("columbia-eyes/" + name).string()));
     }
   }
-  FitOptions options;
-  options.work_width = 128;
+  const FitOptions options = EyePatchFitOptions({});
   const auto model = testing::SharedModel();
   int toward_camera = 0;
   for (const ColumbiaFit& fit : FitColumbia(crops, model, options, 2, false)) {
@@ -140,6 +141,27 @@ TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
   EXPECT_DOUBLE_EQ(one.yaw_high, 1);
 }
 
+// With the head's yaw given, what is left is the eye's turn in the head: the
+// model's fits (no appearance prior) of eyes looking into a lens 30 degrees
+// around the head read most of it, 0.87 on average here. Pulled toward the
+// crop's framing (landmarks=2), they read 0.72 (docs/known-gaps.md, session 41).
+TEST(ColumbiaTest, AnEyeTurnedInTheHeadIsReadMostOfItsTurnGivenTheHeadsYaw) {
+  std::vector<ColumbiaCrop> crops;
+  for (const char* subject : {"0002", "0005", "0013"}) {
+    for (const char* pose_and_eye : {"-30P_0V_0H_L", "-30P_0V_0H_R", "30P_0V_0H_L", "30P_0V_0H_R"}) {
+      const std::string name = std::string(subject) + "_2m_" + pose_and_eye + ".jpg";
+      crops.push_back(Crop(testing::DataPath("columbia-eyes/" + name).string()));
+    }
+  }
+  double read = 0;
+  for (const ColumbiaFit& fit : FitColumbia(crops, testing::SharedModel(), EyePatchFitOptions({}), 2, true)) {
+    const double label = fit.crop.Label(GazeFrame::kHead).y();
+    read += fit.in_head.yaw / label / static_cast<double>(crops.size());
+  }
+  EXPECT_GT(read, 0.8);
+  EXPECT_LT(read, 1.2);
+}
+
 // Real crops: a subject looking 15 degrees either side of straight ahead,
 // each eye fitted on its own, both eyes together within a few degrees.
 TEST(ColumbiaTest, BothEyesOfARealFaceGiveItsHorizontalGaze) {
@@ -148,10 +170,11 @@ TEST(ColumbiaTest, BothEyesOfARealFaceGiveItsHorizontalGaze) {
                            "0003_2m_0P_0V_15H_R.jpg"}) {
     crops.push_back(Crop(testing::DataPath(std::string("columbia-eyes/") + name).string()));
   }
-  FitOptions options;
-  options.work_width = 128;
-  const auto model = testing::SharedModel();
-  const std::vector<ColumbiaPhoto> photos = CombineEyes(FitColumbia(crops, model, options, 2, false));
+  // As eval columbia fits them: with the appearance prior of a model that has not seen the subject.
+  const std::map<std::string, AppearanceGaze> appearance = {
+      {"0003", testing::ColumbiaAppearanceTrainer().Solve("0003")}};
+  const std::vector<ColumbiaPhoto> photos = CombineEyes(
+      FitColumbia(crops, testing::SharedModel(), EyePatchFitOptions({}), 2, false, nullptr, &appearance));
   ASSERT_EQ(photos.size(), 2u);
   for (const ColumbiaPhoto& photo : photos) {
     EXPECT_EQ(photo.eyes, 2);

@@ -30,16 +30,6 @@ const std::vector<ColumbiaCrop>& FrontalCrops() {
   return crops;
 }
 
-// Every crop, all head poses (as train-appearance trains), read once per test binary.
-const AppearanceGazeTrainer& FullTrainer() {
-  static const AppearanceGazeTrainer trainer = [] {
-    AppearanceGazeTrainer trained;
-    AddColumbiaCrops(ListColumbia(testing::DataPath("columbia-eyes")), trained);
-    return trained;
-  }();
-  return trainer;
-}
-
 TEST(AppearanceGazeTest, TheSubjectsLeftEyeIsReadMirrored) {
   const cv::Mat crop = cv::imread(testing::DataPath("columbia-eyes/0003_2m_0P_0V_10H_L.jpg").string());
   ASSERT_FALSE(crop.empty());
@@ -74,7 +64,7 @@ TEST(AppearanceGazeTest, TheSubjectsLeftEyeIsReadMirrored) {
 // reads them).
 TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
   std::map<std::string, AppearanceGaze> models;
-  for (const std::string& subject : FullTrainer().subjects()) models.emplace(subject, FullTrainer().Solve(subject));
+  for (const std::string& subject : testing::ColumbiaAppearanceTrainer().subjects()) models.emplace(subject, testing::ColumbiaAppearanceTrainer().Solve(subject));
   std::map<std::string, std::map<int, std::vector<double>>> readings;  // subject, label -> pitch readings
   std::map<int, std::vector<double>> yaw_readings;                     // label -> yaw readings
   double pitch_error = 0, zero_pitch_error = 0, yaw_error = 0, zero_yaw_error = 0;
@@ -115,7 +105,7 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
 // the gaze relative to the head. Every 3rd photo of all head poses.
 TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
   std::map<std::string, AppearanceGaze> models;
-  for (const std::string& subject : FullTrainer().subjects()) models.emplace(subject, FullTrainer().Solve(subject));
+  for (const std::string& subject : testing::ColumbiaAppearanceTrainer().subjects()) models.emplace(subject, testing::ColumbiaAppearanceTrainer().Solve(subject));
   std::vector<ColumbiaCrop> crops;
   std::map<std::string, int> photos;
   std::map<std::string, double> head_yaw_labels;  // of the photos taken
@@ -153,8 +143,8 @@ TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
 }
 
 TEST(AppearanceGazeTest, ASavedModelReadsAlike) {
-  const AppearanceGaze model = FullTrainer().Solve();
-  EXPECT_EQ(model.subjects(), FullTrainer().subjects());
+  const AppearanceGaze model = testing::ColumbiaAppearanceTrainer().Solve();
+  EXPECT_EQ(model.subjects(), testing::ColumbiaAppearanceTrainer().subjects());
   const std::filesystem::path path = testing::ScratchDir("appearance_gaze") / "model.json";
   model.Save(path);
   const AppearanceGaze loaded = AppearanceGaze::Load(path);

@@ -72,5 +72,12 @@ TEST(FitOptionsTest, EyePatchFitsStartFromTheirWorkingWidth) {
   EXPECT_EQ(options.max_iterations, 7);
 }
 
+// The crop's framing does not pull an eye patch's fit unless asked to.
+TEST(FitOptionsTest, EyePatchFitsLeaveTheFramingLandmarkOutUnlessAsked) {
+  EXPECT_EQ(EyePatchFitOptions({}).weights.landmarks, 0.0);
+  EXPECT_GT(FitOptions().weights.landmarks, 0.0);
+  EXPECT_EQ(EyePatchFitOptions({"landmarks=2"}).weights.landmarks, 2.0);
+}
+
 }  // namespace
 }  // namespace gazedirector

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gazedirector/fit/fit_options.h"
 #include "gazedirector/fit/landmark_model.h"
 #include "gazedirector/render/renderer.h"
 #include "tests/test_data.h"
@@ -13,12 +14,6 @@ namespace gazedirector {
 namespace {
 
 using testing::SharedModel;
-
-FitOptions EyePatchOptions() {
-  FitOptions options;
-  options.work_width = 128;  // as for the Columbia crops
-  return options;
-}
 
 // A 64x64 crop of the subject's left eye rendered from a known Φ: the mean
 // shape framed as Fitter::EyePatchStart frames it, turned and looking as asked.
@@ -57,7 +52,7 @@ class SyntheticEyePatchTest : public ::testing::TestWithParam<SyntheticCase> {};
 // the fit must find it again, also with the head turned (given its yaw).
 TEST_P(SyntheticEyePatchTest, RecoversTheRenderedGaze) {
   const SyntheticCase c = GetParam();
-  FitOptions options = EyePatchOptions();
+  FitOptions options = EyePatchFitOptions({});  // as the Columbia crops are fitted
   options.free[LayoutOf(Block::kRotation).offset + 1] = false;  // the head's yaw is given
   Fitter fitter(SharedModel(), options);
   const cv::Mat crop = RenderEyePatch(fitter, c.head_yaw, c.pitch, c.yaw);
