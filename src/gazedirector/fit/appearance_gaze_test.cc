@@ -64,7 +64,8 @@ TEST(AppearanceGazeTest, TheSubjectsLeftEyeIsReadMirrored) {
 // reads them).
 TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
   std::map<std::string, AppearanceGaze> models;
-  for (const std::string& subject : testing::ColumbiaAppearanceTrainer().subjects()) models.emplace(subject, testing::ColumbiaAppearanceTrainer().Solve(subject));
+  const AppearanceGazeTrainer& trainer = testing::ColumbiaAppearanceTrainer();
+  for (const std::string& subject : trainer.subjects()) models.emplace(subject, trainer.Solve(subject));
   std::map<std::string, std::map<int, std::vector<double>>> readings;  // subject, label -> pitch readings
   std::map<int, std::vector<double>> yaw_readings;                     // label -> yaw readings
   double pitch_error = 0, zero_pitch_error = 0, yaw_error = 0, zero_yaw_error = 0;
@@ -105,7 +106,8 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
 // the gaze relative to the head. Every 3rd photo of all head poses.
 TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
   std::map<std::string, AppearanceGaze> models;
-  for (const std::string& subject : testing::ColumbiaAppearanceTrainer().subjects()) models.emplace(subject, testing::ColumbiaAppearanceTrainer().Solve(subject));
+  const AppearanceGazeTrainer& trainer = testing::ColumbiaAppearanceTrainer();
+  for (const std::string& subject : trainer.subjects()) models.emplace(subject, trainer.Solve(subject));
   std::vector<ColumbiaCrop> crops;
   std::map<std::string, int> photos;
   std::map<std::string, double> head_yaw_labels;  // of the photos taken
@@ -143,8 +145,9 @@ TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
 }
 
 TEST(AppearanceGazeTest, ASavedModelReadsAlike) {
-  const AppearanceGaze model = testing::ColumbiaAppearanceTrainer().Solve();
-  EXPECT_EQ(model.subjects(), testing::ColumbiaAppearanceTrainer().subjects());
+  const AppearanceGazeTrainer& trainer = testing::ColumbiaAppearanceTrainer();
+  const AppearanceGaze model = trainer.Solve();
+  EXPECT_EQ(model.subjects(), trainer.subjects());
   const std::filesystem::path path = testing::ScratchDir("appearance_gaze") / "model.json";
   model.Save(path);
   const AppearanceGaze loaded = AppearanceGaze::Load(path);

@@ -122,10 +122,10 @@ void SetFitOption(FitOptions& options, const std::string& assignment) {
 FitOptions EyePatchFitOptions(const std::vector<std::string>& assignments) {
   FitOptions options;
   options.work_width = kEyePatchWorkWidth;
-  // The crop's framing (the mean of the eye's landmarks at the centre) is no
-  // landmark to pull toward: the landmarks it was cut around follow the iris
-  // sideways, and a turned eye's fit then reads a third less of its turn
-  // (docs/known-gaps.md, session 41). The start still takes the framing.
+  // The crop's framing (the mean of the eye's landmarks at the centre) places
+  // the start but does not pull the fit: the landmarks the crops were cut
+  // around move with the iris, and pulled to them a turned eye's fit read
+  // 0.72 of its turn in the head instead of 0.87 (docs/known-gaps.md, session 41).
   options.weights.landmarks = 0;
   for (const std::string& assignment : assignments) SetFitOption(options, assignment);
   return options;
