@@ -9,7 +9,6 @@
 #include <regex>
 #include <thread>
 
-
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/assets.h"

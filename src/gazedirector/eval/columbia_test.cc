@@ -55,19 +55,25 @@ TEST(ColumbiaTest, LabelsAreRelativeToTheCameraAndTurnedByTheHeadInItsFrame) {
   EXPECT_LT(raised.y(), -14.5);
 }
 
+// Both eyes' crops of `subjects` looking into the lens (0V 0H) from 30 degrees
+// either side of the head.
+std::vector<ColumbiaCrop> LookingIntoTheLensAt30(const std::vector<std::string>& subjects) {
+  std::vector<ColumbiaCrop> crops;
+  for (const std::string& subject : subjects) {
+    for (const char* pose_and_eye : {"-30P_0V_0H_L", "-30P_0V_0H_R", "30P_0V_0H_L", "30P_0V_0H_R"}) {
+      crops.push_back(Crop(testing::DataPath("columbia-eyes/" + subject + "_2m_" + pose_and_eye + ".jpg").string()));
+    }
+  }
+  return crops;
+}
+
 // What the labels mean, checked on the photos: subjects looking into the lens
 // from +-30 degrees around the head have their eyes turned in the head toward
 // the camera (the sign of Label(kHead)), not straight ahead. The fits read
 // about half the turn (docs/known-gaps.md), but its direction in 65 of
 // the 68 0H crops at +-30 of every 4th photo; here two subjects' eight.
 TEST(ColumbiaTest, EyesLookingIntoALensAroundTheHeadAreTurnedInTheHead) {
-  std::vector<ColumbiaCrop> crops;
-  for (const char* subject : {"0001", "0004"}) {
-    for (const char* pose_and_eye : {"-30P_0V_0H_L", "-30P_0V_0H_R", "30P_0V_0H_L", "30P_0V_0H_R"}) {
-      const std::string name = std::string(subject) + "_2m_" + pose_and_eye + ".jpg";
-      crops.push_back(Crop(testing::DataPath("columbia-eyes/" + name).string()));
-    }
-  }
+  const std::vector<ColumbiaCrop> crops = LookingIntoTheLensAt30({"0001", "0004"});
   const FitOptions options = EyePatchFitOptions({});
   const auto model = testing::SharedModel();
   int toward_camera = 0;
@@ -146,13 +152,7 @@ TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
 // around the head read most of it, 0.87 on average here. Pulled toward the
 // crop's framing (landmarks=2), they read 0.72 (docs/known-gaps.md, session 41).
 TEST(ColumbiaTest, AnEyeTurnedInTheHeadIsReadMostOfItsTurnGivenTheHeadsYaw) {
-  std::vector<ColumbiaCrop> crops;
-  for (const char* subject : {"0002", "0005", "0013"}) {
-    for (const char* pose_and_eye : {"-30P_0V_0H_L", "-30P_0V_0H_R", "30P_0V_0H_L", "30P_0V_0H_R"}) {
-      const std::string name = std::string(subject) + "_2m_" + pose_and_eye + ".jpg";
-      crops.push_back(Crop(testing::DataPath("columbia-eyes/" + name).string()));
-    }
-  }
+  const std::vector<ColumbiaCrop> crops = LookingIntoTheLensAt30({"0002", "0005", "0013"});
   double read = 0;
   for (const ColumbiaFit& fit : FitColumbia(crops, testing::SharedModel(), EyePatchFitOptions({}), 2, true)) {
     const double label = fit.crop.Label(GazeFrame::kHead).y();

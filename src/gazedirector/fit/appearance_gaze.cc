@@ -70,7 +70,8 @@ Eigen::VectorXd Gradients(const cv::Mat& grey) {
   cv::resize(grey, small, cv::Size(AppearanceGaze::kHogSize, AppearanceGaze::kHogSize), 0, 0, cv::INTER_AREA);
   std::vector<float> histogram;
   Hog().compute(small, histogram);
-  return Eigen::Map<const Eigen::VectorXf>(histogram.data(), static_cast<Eigen::Index>(histogram.size())).cast<double>();
+  const Eigen::Index size = static_cast<Eigen::Index>(histogram.size());
+  return Eigen::Map<const Eigen::VectorXf>(histogram.data(), size).cast<double>();
 }
 
 Eigen::VectorXd BandRow(const cv::Mat& grey, int eye) {
@@ -235,7 +236,8 @@ Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sum
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   AppearanceGaze model;
   model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.samples_.pitch);
-  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera", model.samples_.frontal_yaw);
+  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
+                                model.samples_.frontal_yaw);
   model.yaw_ = SolveOne(left_out, &SubjectSums::yaw, "yaw", model.samples_.yaw);
   model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
   for (const auto& [subject, sums] : by_subject_) {

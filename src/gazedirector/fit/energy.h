@@ -24,8 +24,8 @@ struct EnergyWeights {
   double appearance_pitch = 1e-4;
   double appearance_yaw = 3e-6;
   // λ_app,y is multiplied by this where the head reads turned (blended by
-  // AppearanceReading::frontal). A turned eye's fit reads about half its turn
-  // in the head, and the reading does better there, but a stronger pull also
+  // AppearanceReading::frontal). A turned eye's fit reads only part of its
+  // turn in the head, and the reading does better there, but a stronger pull also
   // reaches frontal heads whose turn reads a few degrees off, and costs them
   // more than it gains the turned ones on the paper's subset
   // (docs/known-gaps.md, session 40); so by default it is 1.

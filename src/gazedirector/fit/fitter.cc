@@ -221,7 +221,8 @@ FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, doub
   // The crop's framing stands in for the landmarks: the mean of the eye's
   // landmarks sits at the crop's centre. Not the corners themselves: a turned
   // head brings them closer together on the image, and the lids move with
-  // vertical gaze.
+  // vertical gaze. It pulls only at a landmark weight above 0, which
+  // EyePatchFitOptions leaves out.
   const LandmarkModel framing = landmarks_.EyeCentre(eye);
   const std::vector<Eigen::Vector2d> targets = {centre};
   const std::vector<double> weights = {1.0};
