@@ -69,9 +69,10 @@ std::vector<ColumbiaCrop> LookingIntoTheLensAt30(const std::vector<std::string>&
 
 // What the labels mean, checked on the photos: subjects looking into the lens
 // from +-30 degrees around the head have their eyes turned in the head toward
-// the camera (the sign of Label(kHead)), not straight ahead. The fits read
-// about half the turn (docs/known-gaps.md), but its direction in 65 of
-// the 68 0H crops at +-30 of every 4th photo; here two subjects' eight.
+// the camera (the sign of Label(kHead)), not straight ahead. Without the
+// head's yaw the fits read only part of the turn (docs/known-gaps.md), but
+// its direction in 65 of the 68 0H crops at +-30 of every 4th photo when this
+// was written; here two subjects' eight.
 TEST(ColumbiaTest, EyesLookingIntoALensAroundTheHeadAreTurnedInTheHead) {
   const std::vector<ColumbiaCrop> crops = LookingIntoTheLensAt30({"0001", "0004"});
   const FitOptions options = EyePatchFitOptions({});

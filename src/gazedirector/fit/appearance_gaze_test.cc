@@ -63,9 +63,8 @@ TEST(AppearanceGazeTest, TheSubjectsLeftEyeIsReadMirrored) {
 // each read by a model trained without that subject (as `eval columbia`
 // reads them).
 TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
-  std::map<std::string, AppearanceGaze> models;
   const AppearanceGazeTrainer& trainer = testing::ColumbiaAppearanceTrainer();
-  for (const std::string& subject : trainer.subjects()) models.emplace(subject, trainer.Solve(subject));
+  const std::map<std::string, AppearanceGaze> models = LeaveSubjectOut(trainer, trainer.subjects());
   std::map<std::string, std::map<int, std::vector<double>>> readings;  // subject, label -> pitch readings
   std::map<int, std::vector<double>> yaw_readings;                     // label -> yaw readings
   double pitch_error = 0, zero_pitch_error = 0, yaw_error = 0, zero_yaw_error = 0;
@@ -105,9 +104,8 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
 // head from one turned by 15 degrees from one turned by 30, and with that
 // the gaze relative to the head. Every 3rd photo of all head poses.
 TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
-  std::map<std::string, AppearanceGaze> models;
   const AppearanceGazeTrainer& trainer = testing::ColumbiaAppearanceTrainer();
-  for (const std::string& subject : trainer.subjects()) models.emplace(subject, trainer.Solve(subject));
+  const std::map<std::string, AppearanceGaze> models = LeaveSubjectOut(trainer, trainer.subjects());
   std::vector<ColumbiaCrop> crops;
   std::map<std::string, int> photos;
   std::map<std::string, double> head_yaw_labels;  // of the photos taken
