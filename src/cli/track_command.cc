@@ -74,7 +74,10 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
   FaceFit fit;
-  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, 0.76, appearance.HeadYawOr(0.0), appearance);
+  EyePatchFraming framing;
+  framing.head_yaw = appearance.HeadYawOr(0.0);
+  framing.head_yaw_read = true;
+  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, framing, appearance);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};
   fit.has_face = false;
   const Camera camera = Fitter::EyePatchCamera(crop.size());

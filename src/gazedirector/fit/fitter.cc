@@ -175,8 +175,13 @@ FitResult Fitter::FitFaceFrom(const cv::Mat& image, const Camera& camera, const 
   return result;
 }
 
-FitResult Fitter::FitEyePatch(const cv::Mat& crop, int eye, double corner_distance) {
-  return FitEyePatchAt(crop, eye, 0.0, 0.0, corner_distance);
+double EyePatchFraming::FramingYaw() const {
+  if (!head_yaw_read) return head_yaw;
+  return head_yaw * (1.0 - std::exp(-0.5 * std::pow(head_yaw / kReadingTrustDeg, 2)));
+}
+
+FitResult Fitter::FitEyePatch(const cv::Mat& crop, int eye, const EyePatchFraming& framing) {
+  return FitEyePatchAt(crop, eye, 0.0, 0.0, framing);
 }
 
 Camera Fitter::EyePatchCamera(cv::Size crop) {
@@ -184,23 +189,31 @@ Camera Fitter::EyePatchCamera(cv::Size crop) {
   return {8.0 * crop.width, 8.0 * crop.width, 0.5 * (crop.width - 1), 0.5 * (crop.height - 1), crop.width, crop.height};
 }
 
-Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance, double head_yaw) const {
+Parameters Fitter::EyePatchStart(cv::Size crop, int eye, const EyePatchFraming& framing) const {
   const Camera camera = EyePatchCamera(crop);
   Parameters phi;
   phi.interocular() = kAverageInterocularMm;
-  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 27.0 / (corner_distance * crop.width));
+  const double spread = framing.corner_distance * crop.width;
+  phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, camera.fx * 27.0 / spread);
   // The eye's corners sit symmetrically about the crop's centre; the inner
   // corner is toward the nose (image left for the subject's left eye).
-  const double half = 0.5 * corner_distance * crop.width;
   const Eigen::Vector2d centre(camera.cx, camera.cy);
   const double inner_side = eye == kLeftEye ? -1.0 : 1.0;
-  const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * half, 0)},
-                                             {eye, 1, centre - Eigen::Vector2d(inner_side * half, 0)}};
+  const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * 0.5 * spread, 0)},
+                                             {eye, 1, centre - Eigen::Vector2d(inner_side * 0.5 * spread, 0)}};
   phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, *model_, camera, corners);
-  // A turned head keeps its distance (the crops are framed at a fixed scale)
-  // but moves the eye on the image: bring the corners' midpoint back.
-  phi.block<Block::kRotation>() = Eigen::Vector3d(0, head_yaw, 0);
+  const auto corner_spread = [&] {
+    const auto model_corners = ModelEyeCorners(phi, *model_, eye);
+    return std::abs(camera.Project(model_corners[0]).x() - camera.Project(model_corners[1]).x());
+  };
+  const double frontal_spread = corner_spread();
+  // A turned head foreshortens the eye, but the crop is scaled to it: the
+  // head comes nearer until the corners are as far apart as facing the
+  // camera. Then the eye is brought back to the crop's centre.
   for (int pass = 0; pass < 3; ++pass) {
+    phi.block<Block::kRotation>() = Eigen::Vector3d(0, framing.FramingYaw(), 0);
+    phi.block<Block::kTranslation>() *= corner_spread() / frontal_spread;
+    phi.block<Block::kRotation>() = Eigen::Vector3d(0, framing.head_yaw, 0);
     const auto model_corners = ModelEyeCorners(phi, *model_, eye);
     const Eigen::Vector2d miss = 0.5 * (camera.Project(model_corners[0]) + camera.Project(model_corners[1])) - centre;
     const double depth = phi.translation().z();
@@ -209,27 +222,26 @@ Parameters Fitter::EyePatchStart(cv::Size crop, int eye, double corner_distance,
   return phi;
 }
 
-FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance,
-                                 double head_yaw, const AppearanceReading& appearance) {
+FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, const EyePatchFraming& framing,
+                                 const AppearanceReading& appearance) {
   const Camera camera = EyePatchCamera(crop.size());
-  Parameters phi = EyePatchStart(crop.size(), eye, corner_distance, head_yaw);
+  Parameters phi = EyePatchStart(crop.size(), eye, framing);
   phi.gaze_pitch() = pitch;
   phi.gaze_yaw() = yaw;
   phi.eyelid_pitch() = pitch;
   const Eigen::Vector2d centre(camera.cx, camera.cy);
 
   // The crop's framing stands in for the landmarks: the mean of the eye's
-  // landmarks sits at the crop's centre. Not the corners themselves: a turned
-  // head brings them closer together on the image, and the lids move with
-  // vertical gaze. It pulls only at a landmark weight above 0, which
-  // EyePatchFitOptions leaves out.
-  const LandmarkModel framing = landmarks_.EyeCentre(eye);
+  // landmarks sits at the crop's centre. Not the corners themselves: the
+  // lids, and with them the landmarks, move with vertical gaze. It pulls only
+  // at a landmark weight above 0, which EyePatchFitOptions leaves out.
+  const LandmarkModel eye_centre = landmarks_.EyeCentre(eye);
   const std::vector<Eigen::Vector2d> targets = {centre};
   const std::vector<double> weights = {1.0};
   const double scale = std::min(4.0, static_cast<double>(options_.work_width) / crop.cols);
   std::array<bool, 2> eyes = {eye == kLeftEye, eye == kRightEye};
   std::vector<Level> levels =
-      Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, framing, targets, weights, eyes, scale);
+      Pyramid(crop, cv::Rect2d(0, 0, crop.cols, crop.rows), camera, eye_centre, targets, weights, eyes, scale);
   for (Level& level : levels) level.problem->set_appearance(appearance);
   // One eye cannot tell the interocular distance or the vergence.
   ParameterMask free = options_.free;

@@ -69,6 +69,29 @@ struct FitResult {
   std::string note;        // why not, when not
 };
 
+// How a crop of one eye is framed, and what is known of the head's turn.
+struct EyePatchFraming {
+  // The eye's corners (the canthi) as a share of the crop's width, at every
+  // turn of the head: the crop is scaled to the eye. 0.76 in the Columbia
+  // crops, measured on their mean; their mean crops at head poses +-30 show
+  // the eye as wide as at 0, where a fixed scale would foreshorten one eye
+  // by a quarter.
+  double corner_distance = 0.76;
+  // The head's yaw, degrees (the model's convention: Parameters::rotation_deg).
+  double head_yaw = 0.0;
+  // Whether head_yaw was read from the crop (AppearanceGaze) instead of given.
+  bool head_yaw_read = false;
+
+  // The head yaw the eye is scaled at: head_yaw where given; a reading only
+  // as far as it reads the head clearly turned, weighted by
+  // 1 - exp(-(yaw / kReadingTrustDeg)^2 / 2). A frontal head's reading errs
+  // by about 4 degrees, and each degree would scale the eye by about 0.5%
+  // (its outer corner lies deeper than its inner one): followed fully, that
+  // cost frontal heads 0.2 degrees of yaw (docs/known-gaps.md).
+  double FramingYaw() const;
+  static constexpr double kReadingTrustDeg = 10.0;
+};
+
 // Fits the multi-part eye-region model to images by analysis-by-synthesis
 // with annealed Gauss-Newton: numerical central-difference Jacobians (two
 // renders per parameter, spread over the thread pool) and exact ones for the
@@ -88,18 +111,18 @@ class Fitter {
   FitResult RefitFace(const cv::Mat& image, const Camera& camera, const Face& face, const Parameters& known);
 
   // One eye region in a crop of a single eye (as the Columbia crops): the eye
-  // sits at the crop's centre, its corners (the canthi) `corner_distance` of
-  // the crop's width apart (0.76 in the Columbia crops, measured on their mean). `eye` is the subject's (kLeftEye is the image-right eye).
-  FitResult FitEyePatch(const cv::Mat& crop, int eye, double corner_distance = 0.76);
+  // sits at the crop's centre, framed as `framing` says. `eye` is the
+  // subject's (kLeftEye is the image-right eye).
+  FitResult FitEyePatch(const cv::Mat& crop, int eye, const EyePatchFraming& framing = {});
   // Where FitEyePatch starts: the eye placed by the crop's framing, mean
-  // shape, the head turned by `head_yaw` degrees.
-  Parameters EyePatchStart(cv::Size crop, int eye, double corner_distance = 0.76, double head_yaw = 0.0) const;
+  // shape, the head turned by the framing's head yaw.
+  Parameters EyePatchStart(cv::Size crop, int eye, const EyePatchFraming& framing = {}) const;
   static Camera EyePatchCamera(cv::Size crop);
   // The same, starting from a given gaze (pitch, yaw in degrees; the lids
   // follow), with the gaze pulled toward `appearance` (AppearanceGaze's
   // reading of the crop; none where its angles are NaN).
-  FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, double corner_distance = 0.76,
-                          double head_yaw = 0.0, const AppearanceReading& appearance = {});
+  FitResult FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, double yaw, const EyePatchFraming& framing = {},
+                          const AppearanceReading& appearance = {});
 
   FitOptions& options() { return options_; }
   const FitOptions& options() const { return options_; }
