@@ -74,10 +74,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
   FaceFit fit;
-  EyePatchFraming framing;
-  framing.head_yaw = appearance.HeadYawOr(0.0);
-  framing.head_yaw_read = true;
-  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, framing, appearance);
+  fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, EyePatchFraming::ReadHeadYaw(appearance), appearance);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};
   fit.has_face = false;
   const Camera camera = Fitter::EyePatchCamera(crop.size());

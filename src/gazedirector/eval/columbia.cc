@@ -201,9 +201,8 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
           const double head_yaw = known_head_pose ? crop.HeadYaw() : read_head_yaws.at(crop.Photo());
           reading = ModelFor(*appearance, crop.subject).Read(image, crop.ModelEye(), head_yaw);
         }
-        EyePatchFraming framing;
-        framing.head_yaw = known_head_pose ? crop.HeadYaw() : reading.HeadYawOr(0.0);
-        framing.head_yaw_read = !known_head_pose;
+        const EyePatchFraming framing = known_head_pose ? EyePatchFraming::GivenHeadYaw(crop.HeadYaw())
+                                                        : EyePatchFraming::ReadHeadYaw(reading);
         const FitResult result = fitter.FitEyePatchAt(image, crop.ModelEye(), 0, 0, framing, reading);
         ColumbiaFit& fit = fits[i];
         fit.appearance = reading;

@@ -207,11 +207,12 @@ Parameters Fitter::EyePatchStart(cv::Size crop, int eye, const EyePatchFraming& 
     return std::abs(camera.Project(model_corners[0]).x() - camera.Project(model_corners[1]).x());
   };
   const double frontal_spread = corner_spread();
+  const double framing_yaw = framing.FramingYaw();
   // A turned head foreshortens the eye, but the crop is scaled to it: the
   // head comes nearer until the corners are as far apart as facing the
   // camera. Then the eye is brought back to the crop's centre.
   for (int pass = 0; pass < 3; ++pass) {
-    phi.block<Block::kRotation>() = Eigen::Vector3d(0, framing.FramingYaw(), 0);
+    phi.block<Block::kRotation>() = Eigen::Vector3d(0, framing_yaw, 0);
     phi.block<Block::kTranslation>() *= corner_spread() / frontal_spread;
     phi.block<Block::kRotation>() = Eigen::Vector3d(0, framing.head_yaw, 0);
     const auto model_corners = ModelEyeCorners(phi, *model_, eye);

@@ -82,6 +82,13 @@ struct EyePatchFraming {
   // Whether head_yaw was read from the crop (AppearanceGaze) instead of given.
   bool head_yaw_read = false;
 
+  // A crop framed as Columbia's with the head's yaw given, or read from the
+  // crop by AppearanceGaze (0 where the reading has none).
+  static EyePatchFraming GivenHeadYaw(double head_yaw) { return {.head_yaw = head_yaw}; }
+  static EyePatchFraming ReadHeadYaw(const AppearanceReading& reading) {
+    return {.head_yaw = reading.HeadYawOr(0.0), .head_yaw_read = true};
+  }
+
   // The head yaw the eye is scaled at: head_yaw where given; a reading only
   // as far as it reads the head clearly turned, weighted by
   // 1 - exp(-(yaw / kReadingTrustDeg)^2 / 2). A frontal head's reading errs

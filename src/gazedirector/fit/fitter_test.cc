@@ -21,9 +21,7 @@ using testing::SharedModel;
 // Columbia crops are), turned and looking as asked.
 cv::Mat RenderEyePatch(const Fitter& fitter, double head_yaw, double pitch, double yaw) {
   const cv::Size size(64, 64);
-  EyePatchFraming framing;
-  framing.head_yaw = head_yaw;
-  Parameters phi = fitter.EyePatchStart(size, kLeftEye, framing);
+  Parameters phi = fitter.EyePatchStart(size, kLeftEye, EyePatchFraming::GivenHeadYaw(head_yaw));
   phi.gaze_pitch() = pitch;
   phi.eyelid_pitch() = pitch;
   phi.gaze_yaw() = yaw;
@@ -63,9 +61,7 @@ TEST(FitterTest, AnEyePatchIsScaledToTheEyeAtEveryTurnOfTheHead) {
   const Eigen::Vector2d frontal_corners = CornerColumns(fitter, frontal, size);
   EXPECT_NEAR(std::abs(frontal_corners.y() - frontal_corners.x()), 0.76 * 64, 1.0);
   for (double head_yaw : {-30.0, -15.0, 15.0, 30.0}) {
-    EyePatchFraming framing;
-    framing.head_yaw = head_yaw;
-    const Parameters turned = fitter.EyePatchStart(size, kLeftEye, framing);
+    const Parameters turned = fitter.EyePatchStart(size, kLeftEye, EyePatchFraming::GivenHeadYaw(head_yaw));
     EXPECT_DOUBLE_EQ(turned.rotation_deg().y(), head_yaw);
     const Eigen::Vector2d corners = CornerColumns(fitter, turned, size);
     EXPECT_NEAR(corners.y() - corners.x(), frontal_corners.y() - frontal_corners.x(), 0.1) << head_yaw;
@@ -102,9 +98,7 @@ TEST_P(SyntheticEyePatchTest, RecoversTheRenderedGaze) {
   options.free[LayoutOf(Block::kRotation).offset + 1] = false;  // the head's yaw is given
   Fitter fitter(SharedModel(), options);
   const cv::Mat crop = RenderEyePatch(fitter, c.head_yaw, c.pitch, c.yaw);
-  EyePatchFraming framing;
-  framing.head_yaw = c.head_yaw;
-  const FitResult fit = fitter.FitEyePatchAt(crop, kLeftEye, 0, 0, framing);
+  const FitResult fit = fitter.FitEyePatchAt(crop, kLeftEye, 0, 0, EyePatchFraming::GivenHeadYaw(c.head_yaw));
   // A head turned 30 degrees foreshortens the eye whose outer corner turns
   // away by a quarter, and the crop, scaled to the eye, magnifies it again:
   // there (head yaw -30 for this eye) pitch is read 1-3 degrees low even by a
