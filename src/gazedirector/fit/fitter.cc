@@ -199,8 +199,9 @@ Parameters Fitter::EyePatchStart(cv::Size crop, int eye, const EyePatchFraming& 
   // corner is toward the nose (image left for the subject's left eye).
   const Eigen::Vector2d centre(camera.cx, camera.cy);
   const double inner_side = eye == kLeftEye ? -1.0 : 1.0;
-  const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * 0.5 * spread, 0)},
-                                             {eye, 1, centre - Eigen::Vector2d(inner_side * 0.5 * spread, 0)}};
+  const double half = 0.5 * spread;
+  const std::vector<CornerTarget> corners = {{eye, 0, centre + Eigen::Vector2d(inner_side * half, 0)},
+                                             {eye, 1, centre - Eigen::Vector2d(inner_side * half, 0)}};
   phi.block<Block::kTranslation>() = FitTranslationToCorners(phi, *model_, camera, corners);
   const auto corner_spread = [&] {
     const auto model_corners = ModelEyeCorners(phi, *model_, eye);

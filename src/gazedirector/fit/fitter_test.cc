@@ -69,15 +69,12 @@ TEST(FitterTest, AnEyePatchIsScaledToTheEyeAtEveryTurnOfTheHead) {
   }
   // Turned 30 degrees, this eye's outer corner turns away: it shows a quarter
   // narrower, so the head comes about a third nearer.
-  EyePatchFraming away;
-  away.head_yaw = -30;
+  const EyePatchFraming away = EyePatchFraming::GivenHeadYaw(-30);
   EXPECT_LT(fitter.EyePatchStart(size, kLeftEye, away).translation().z(), 0.8 * frontal.translation().z());
   // Read, a few degrees are taken for a frontal head; 30 as given.
-  away.head_yaw_read = true;
-  EXPECT_NEAR(away.FramingYaw(), -30, 0.5);
-  EyePatchFraming nearly_frontal;
-  nearly_frontal.head_yaw = 4;
-  nearly_frontal.head_yaw_read = true;
+  const EyePatchFraming read_away{.head_yaw = -30, .head_yaw_read = true};
+  EXPECT_NEAR(read_away.FramingYaw(), -30, 0.5);
+  const EyePatchFraming nearly_frontal{.head_yaw = 4, .head_yaw_read = true};
   EXPECT_NEAR(nearly_frontal.FramingYaw(), 0, 0.5);
   const Parameters read = fitter.EyePatchStart(size, kLeftEye, nearly_frontal);
   EXPECT_DOUBLE_EQ(read.rotation_deg().y(), 4);
