@@ -196,16 +196,16 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.json"), &output), 0) << output;
   std::ifstream stream(dir / "gaze.json");
   const nlohmann::json model = nlohmann::json::parse(stream);
-  for (const char* angle : {"pitch", "frontal_yaw", "yaw", "head_yaw"}) {
+  for (const char* angle : {"pitch", "frontal_yaw", "camera_yaw", "head_yaw"}) {
     EXPECT_EQ(model["samples"][angle].get<int>(), 84) << angle;  // all frontal
   }
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
   // The 8 x 12 band, the eye's side and the intercept, for pitch and frontal
   // yaw; the band, 324 gradient bins, the side and the intercept for the
-  // whole crop's yaw and head yaw.
+  // whole crop's camera yaw and head yaw.
   EXPECT_EQ(model["weights"]["pitch"].size(), 98u);
   EXPECT_EQ(model["weights"]["frontal_mirrored_yaw"].size(), 98u);
-  EXPECT_EQ(model["weights"]["mirrored_yaw"].size(), 422u);
+  EXPECT_EQ(model["weights"]["mirrored_camera_yaw"].size(), 422u);
   EXPECT_EQ(model["weights"]["mirrored_head_yaw"].size(), 422u);
   EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "gaze.json") + " -o " + Quote(dir / "none.json"), &output), 4)
       << output;

@@ -9,6 +9,7 @@
 #include <opencv2/objdetect.hpp>
 
 #include "gazedirector/io/atomic_output.h"
+#include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/util/error.h"
 
@@ -20,7 +21,7 @@ namespace {
 constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
 constexpr int kBandPixels = kBandRows * kBandColumns;
-constexpr const char* kFormat = "gazedirector-appearance-gaze-2";
+constexpr const char* kFormat = "gazedirector-appearance-gaze-3";
 
 // Yaws are learned in the mirrored frame, where both eyes turn alike.
 double MirroredYawSign(int eye) { return eye == kLeftEye ? -1.0 : 1.0; }
@@ -86,6 +87,14 @@ Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
   return row;
 }
 
+// A gaze's pitch and yaw (degrees) relative to the head, as relative to the
+// camera (`to_camera`) or back, for a head turned by `head_yaw`.
+Eigen::Vector2d TurnGaze(double pitch, double yaw, double head_yaw, bool to_camera) {
+  const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(head_yaw), 0));
+  const Eigen::Vector3d gaze = EyeRegionModel::GazeInHead(pitch, yaw);
+  return EyeRegionModel::PitchYawInHead(to_camera ? Eigen::Vector3d(head * gaze) : Eigen::Vector3d(head.transpose() * gaze));
+}
+
 std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
 }  // namespace
@@ -112,10 +121,11 @@ AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head
   const cv::Mat grey = MirroredGrey(crop, eye);
   const Eigen::VectorXd band = BandRow(grey, eye);
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
-  const double turned = yaw_.dot(CropRow(grey, eye));
   AppearanceReading reading;
   reading.pitch = pitch_.dot(band);
-  reading.yaw = MirroredYawSign(eye) * (frontal * frontal_yaw_.dot(band) + (1 - frontal) * turned);
+  const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(CropRow(grey, eye));
+  const double turned = TurnGaze(reading.pitch, camera_yaw, head_yaw, /*to_camera=*/false).y();
+  reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(band) + (1 - frontal) * turned;
   reading.head_yaw = head_yaw;
   reading.frontal = frontal;
   return reading;
@@ -131,13 +141,13 @@ nlohmann::json AppearanceGaze::ToJson() const {
           {"samples",
            {{"pitch", samples_.pitch},
             {"frontal_yaw", samples_.frontal_yaw},
-            {"yaw", samples_.yaw},
+            {"camera_yaw", samples_.camera_yaw},
             {"head_yaw", samples_.head_yaw}}},
           {"subjects", subjects_},
           {"weights",
            {{"pitch", ToVector(pitch_)},
             {"frontal_mirrored_yaw", ToVector(frontal_yaw_)},
-            {"mirrored_yaw", ToVector(yaw_)},
+            {"mirrored_camera_yaw", ToVector(camera_yaw_)},
             {"mirrored_head_yaw", ToVector(head_yaw_)}}}};
 }
 
@@ -168,13 +178,13 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
     };
     model.pitch_ = load("pitch", NumBandFeatures());
     model.frontal_yaw_ = load("frontal_mirrored_yaw", NumBandFeatures());
-    model.yaw_ = load("mirrored_yaw", NumCropFeatures());
+    model.camera_yaw_ = load("mirrored_camera_yaw", NumCropFeatures());
     model.head_yaw_ = load("mirrored_head_yaw", NumCropFeatures());
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
     model.ridge_ = json.at("ridge").get<double>();
     const nlohmann::json& samples = json.at("samples");
     model.samples_ = {samples.at("pitch").get<int>(), samples.at("frontal_yaw").get<int>(),
-                      samples.at("yaw").get<int>(), samples.at("head_yaw").get<int>()};
+                      samples.at("camera_yaw").get<int>(), samples.at("head_yaw").get<int>()};
   } catch (const nlohmann::json::exception& e) {
     Fail(ExitCode::kAssets, "{}: not a valid appearance gaze model ({})", path.string(), e.what());
   }
@@ -206,7 +216,11 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
   SubjectSums& sums = by_subject_[subject];
   sums.pitch.Add(band, label.pitch);
   sums.frontal_yaw.Add(band, label.head_yaw == 0 ? sign * label.yaw : nan);
-  sums.yaw.Add(whole, sign * label.yaw);
+  const double camera_yaw =
+      std::isnan(label.yaw) || std::isnan(label.head_yaw)
+          ? nan
+          : TurnGaze(std::isnan(label.pitch) ? 0.0 : label.pitch, label.yaw, label.head_yaw, /*to_camera=*/true).y();
+  sums.camera_yaw.Add(whole, sign * camera_yaw);
   sums.head_yaw.Add(whole, sign * label.head_yaw);
 }
 
@@ -238,7 +252,7 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.samples_.pitch);
   model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
                                 model.samples_.frontal_yaw);
-  model.yaw_ = SolveOne(left_out, &SubjectSums::yaw, "yaw", model.samples_.yaw);
+  model.camera_yaw_ = SolveOne(left_out, &SubjectSums::camera_yaw, "yaw", model.samples_.camera_yaw);
   model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
   for (const auto& [subject, sums] : by_subject_) {
     if (subject != left_out) model.subjects_.push_back(subject);

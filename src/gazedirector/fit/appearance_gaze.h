@@ -56,11 +56,17 @@ struct AppearanceLabel {
 //   pitch        on the eye band, learned from every crop;
 //   frontal yaw  on the eye band, learned from crops whose head faces the
 //                camera (head yaw 0), where it reads best;
-//   yaw          on the whole crop, learned from every crop;
+//   camera yaw   the gaze's yaw relative to the camera, on the whole crop,
+//                learned from every crop;
 //   head yaw     on the whole crop, learned from every crop.
-// The yaw read is the frontal yaw where the head yaw is near 0 and the
-// whole-crop yaw where the head is turned, blended by a Gaussian of width
-// kFrontalWidthDeg in the head yaw.
+// The yaw read is the frontal yaw where the head yaw is near 0 and, where
+// the head is turned, the camera yaw turned into the head's frame by the
+// head yaw Read is given, blended by a Gaussian of width kFrontalWidthDeg in
+// the head yaw. The camera yaw, not the yaw relative to the head, because a
+// crop shows where the eye looks relative to the camera far better than how
+// far the head is turned: learned relative to the head, a turned eye's yaw
+// was read about 5 degrees short of its turn at head yaw +-30 even where the
+// head's yaw was known, and the fits followed (docs/known-gaps.md).
 class AppearanceGaze {
  public:
   // The eye band: the crop shrunk to kGrid x kGrid grey pixels, and the band
@@ -94,7 +100,7 @@ class AppearanceGaze {
   double ridge() const { return ridge_; }
   // The crops each regression learned from.
   struct Samples {
-    int pitch = 0, frontal_yaw = 0, yaw = 0, head_yaw = 0;
+    int pitch = 0, frontal_yaw = 0, camera_yaw = 0, head_yaw = 0;
     bool operator==(const Samples&) const = default;
   };
   const Samples& samples() const { return samples_; }
@@ -109,7 +115,7 @@ class AppearanceGaze {
   // A weight per feature, then the intercept. Yaws are learned in the
   // mirrored frame, where both eyes turn alike.
   Eigen::VectorXd pitch_, frontal_yaw_;  // on the band
-  Eigen::VectorXd yaw_, head_yaw_;       // on the whole crop
+  Eigen::VectorXd camera_yaw_, head_yaw_;  // on the whole crop
   std::vector<std::string> subjects_;
   double ridge_ = 0;
   Samples samples_;
@@ -137,7 +143,7 @@ class AppearanceGazeTrainer {
     void Add(const Eigen::VectorXd& row, double label);
   };
   struct SubjectSums {
-    Sums pitch, frontal_yaw, yaw, head_yaw;
+    Sums pitch, frontal_yaw, camera_yaw, head_yaw;
   };
   Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
   std::map<std::string, SubjectSums> by_subject_;
