@@ -8,8 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
 
-#include "gazedirector/io/atomic_output.h"
 #include "gazedirector/geometry/rotation.h"
+#include "gazedirector/io/atomic_output.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/util/error.h"
 
@@ -92,7 +92,8 @@ Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
 Eigen::Vector2d TurnGaze(double pitch, double yaw, double head_yaw, bool to_camera) {
   const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(head_yaw), 0));
   const Eigen::Vector3d gaze = EyeRegionModel::GazeInHead(pitch, yaw);
-  return EyeRegionModel::PitchYawInHead(to_camera ? Eigen::Vector3d(head * gaze) : Eigen::Vector3d(head.transpose() * gaze));
+  const Eigen::Vector3d turned = to_camera ? Eigen::Vector3d(head * gaze) : Eigen::Vector3d(head.transpose() * gaze);
+  return EyeRegionModel::PitchYawInHead(turned);
 }
 
 std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }

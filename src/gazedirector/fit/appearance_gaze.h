@@ -65,7 +65,7 @@ struct AppearanceLabel {
 // the head yaw. The camera yaw, not the yaw relative to the head, because a
 // crop shows where the eye looks relative to the camera far better than how
 // far the head is turned: learned relative to the head, a turned eye's yaw
-// was read about 5 degrees short of its turn at head yaw +-30 even where the
+// was read 3-5 degrees short of its turn at head yaw +-30 even where the
 // head's yaw was known, and the fits followed (docs/known-gaps.md).
 class AppearanceGaze {
  public:
