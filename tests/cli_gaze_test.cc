@@ -200,6 +200,7 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
     EXPECT_EQ(model["samples"][angle].get<int>(), 84) << angle;  // all frontal
   }
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
+  EXPECT_EQ(model["head_yaw_slope"].get<double>(), 1.0);  // every head faces the camera: nothing to learn it from
   // The 8 x 12 band, the eye's side and the intercept, for pitch and frontal
   // yaw; the band, 324 gradient bins, the side and the intercept for the
   // whole crop's camera yaw and head yaw.

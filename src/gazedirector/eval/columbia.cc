@@ -198,8 +198,10 @@ std::vector<ColumbiaFit> FitColumbia(const std::vector<ColumbiaCrop>& crops, std
         Timer timer;
         AppearanceReading reading;
         if (appearance != nullptr) {
-          const double head_yaw = known_head_pose ? crop.HeadYaw() : read_head_yaws.at(crop.Photo());
-          reading = ModelFor(*appearance, crop.subject).Read(image, crop.ModelEye(), head_yaw);
+          const AppearanceGaze& gaze = ModelFor(*appearance, crop.subject);
+          const int eye = crop.ModelEye();
+          reading = known_head_pose ? gaze.Read(image, eye, crop.HeadYaw())
+                                    : gaze.ReadGivenHeadReading(image, eye, read_head_yaws.at(crop.Photo()));
         }
         const EyePatchFraming framing = known_head_pose ? EyePatchFraming::GivenHeadYaw(crop.HeadYaw())
                                                         : EyePatchFraming::ReadHeadYaw(reading);

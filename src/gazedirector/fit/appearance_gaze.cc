@@ -1,5 +1,6 @@
 #include "gazedirector/fit/appearance_gaze.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -21,7 +22,7 @@ namespace {
 constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
 constexpr int kBandPixels = kBandRows * kBandColumns;
-constexpr const char* kFormat = "gazedirector-appearance-gaze-3";
+constexpr const char* kFormat = "gazedirector-appearance-gaze-4";
 
 // Yaws are learned in the mirrored frame, where both eyes turn alike.
 double MirroredYawSign(int eye) { return eye == kLeftEye ? -1.0 : 1.0; }
@@ -119,13 +120,21 @@ double AppearanceGaze::ReadHeadYaw(const cv::Mat& crop, int eye) const {
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head_yaw) const {
+  return ReadTurnedBy(crop, eye, head_yaw, head_yaw);
+}
+
+AppearanceReading AppearanceGaze::ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const {
+  return ReadTurnedBy(crop, eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
+}
+
+AppearanceReading AppearanceGaze::ReadTurnedBy(const cv::Mat& crop, int eye, double head_yaw, double turn) const {
   const cv::Mat grey = MirroredGrey(crop, eye);
   const Eigen::VectorXd band = BandRow(grey, eye);
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
   AppearanceReading reading;
   reading.pitch = pitch_.dot(band);
   const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(CropRow(grey, eye));
-  const double turned = TurnGaze(reading.pitch, camera_yaw, head_yaw, /*to_camera=*/false).y();
+  const double turned = TurnGaze(reading.pitch, camera_yaw, turn, /*to_camera=*/false).y();
   reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(band) + (1 - frontal) * turned;
   reading.head_yaw = head_yaw;
   reading.frontal = frontal;
@@ -139,6 +148,7 @@ nlohmann::json AppearanceGaze::ToJson() const {
           {"hog_size", kHogSize},
           {"frontal_width_deg", kFrontalWidthDeg},
           {"ridge", ridge_},
+          {"head_yaw_slope", head_yaw_slope_},
           {"samples",
            {{"pitch", samples_.pitch},
             {"frontal_yaw", samples_.frontal_yaw},
@@ -183,6 +193,10 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
     model.head_yaw_ = load("mirrored_head_yaw", NumCropFeatures());
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
     model.ridge_ = json.at("ridge").get<double>();
+    model.head_yaw_slope_ = json.at("head_yaw_slope").get<double>();
+    if (!(model.head_yaw_slope_ > 0.1 && model.head_yaw_slope_ < 10)) {
+      Fail(ExitCode::kAssets, "{}: head_yaw_slope {} is not usable", path.string(), model.head_yaw_slope_);
+    }
     const nlohmann::json& samples = json.at("samples");
     model.samples_ = {samples.at("pitch").get<int>(), samples.at("frontal_yaw").get<int>(),
                       samples.at("camera_yaw").get<int>(), samples.at("head_yaw").get<int>()};
@@ -204,6 +218,7 @@ void AppearanceGazeTrainer::Sums::Add(const Eigen::VectorXd& row, double label) 
   }
   normal.selfadjointView<Eigen::Lower>().rankUpdate(row);
   rhs += label * row;
+  label_squares += label * label;
   ++samples;
 }
 
@@ -225,14 +240,14 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
   sums.head_yaw.Add(whole, sign * label.head_yaw);
 }
 
-Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle,
+Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::vector<std::string>& left_out, Sums SubjectSums::*angle,
                                                 const char* name, int& samples) const {
   Eigen::MatrixXd normal;
   Eigen::VectorXd rhs;
   samples = 0;
   for (const auto& [subject, sums] : by_subject_) {
     const Sums& these = sums.*angle;
-    if (subject == left_out || these.samples == 0) continue;
+    if (std::find(left_out.begin(), left_out.end(), subject) != left_out.end() || these.samples == 0) continue;
     if (samples == 0) {
       normal = these.normal;
       rhs = these.rhs;
@@ -248,13 +263,33 @@ Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sum
   return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
 }
 
+double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
+  // Each training subject read by a regression trained without them and
+  // without `left_out`. The sum over the subject's crops of reading times
+  // label is the weights times the subject's own Xᵀy, so no crop is kept.
+  double reading_times_label = 0, label_squares = 0;
+  for (const auto& [subject, sums] : by_subject_) {
+    const Sums& these = sums.head_yaw;
+    if (subject == left_out || these.samples == 0) continue;
+    int samples = 0;
+    const Eigen::VectorXd weights = SolveOne({left_out, subject}, &SubjectSums::head_yaw, "head yaw", samples);
+    reading_times_label += weights.dot(these.rhs);
+    label_squares += these.label_squares;
+  }
+  // One subject, or heads that all face the camera: nothing to learn it from.
+  if (label_squares <= 0 || reading_times_label <= 0) return 1.0;
+  return reading_times_label / label_squares;
+}
+
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   AppearanceGaze model;
-  model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.samples_.pitch);
-  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
+  const std::vector<std::string> excluded = left_out.empty() ? std::vector<std::string>{} : std::vector{left_out};
+  model.pitch_ = SolveOne(excluded, &SubjectSums::pitch, "pitch", model.samples_.pitch);
+  model.frontal_yaw_ = SolveOne(excluded, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
                                 model.samples_.frontal_yaw);
-  model.camera_yaw_ = SolveOne(left_out, &SubjectSums::camera_yaw, "yaw", model.samples_.camera_yaw);
-  model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
+  model.camera_yaw_ = SolveOne(excluded, &SubjectSums::camera_yaw, "yaw", model.samples_.camera_yaw);
+  model.head_yaw_ = SolveOne(excluded, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
+  model.head_yaw_slope_ = HeadYawSlope(left_out);
   for (const auto& [subject, sums] : by_subject_) {
     if (subject != left_out) model.subjects_.push_back(subject);
   }

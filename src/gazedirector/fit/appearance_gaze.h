@@ -88,12 +88,25 @@ class AppearanceGaze {
   // About the head-yaw reading's own error, degrees.
   static constexpr double kFrontalWidthDeg = 7.0;
 
-  // The head's yaw alone.
+  // The head's yaw alone, as the regression reads it.
   double ReadHeadYaw(const cv::Mat& crop, int eye) const;
-  // The gaze, given the head's yaw: read from this crop, or better from both
-  // eyes of the face (the mean of their readings), or known otherwise.
+  // The gaze, given the head's yaw, known.
   AppearanceReading Read(const cv::Mat& crop, int eye, double head_yaw) const;
-  AppearanceReading Read(const cv::Mat& crop, int eye) const { return Read(crop, eye, ReadHeadYaw(crop, eye)); }
+  // The gaze, given the head's yaw as read: from this crop, or better from
+  // both eyes of the face (the mean of their ReadHeadYaw). The regression
+  // reads people it was not trained on short of the turns it learned (a 30
+  // degree turn as about 23 on Columbia), and a turned eye's gaze relative to
+  // the head falls short with it, so the camera yaw is turned by the reading
+  // divided by head_yaw_slope(). How frontal the head reads, and where the
+  // fit starts, keep the reading itself, which is less noisy near 0.
+  AppearanceReading ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const;
+  AppearanceReading Read(const cv::Mat& crop, int eye) const {
+    return ReadGivenHeadReading(crop, eye, ReadHeadYaw(crop, eye));
+  }
+  // How much of a head's yaw the regression reads, on average, for people it
+  // was not trained on: each training subject read by a regression trained
+  // without them, the least-squares slope of reading on label (through 0).
+  double head_yaw_slope() const { return head_yaw_slope_; }
 
   // The subjects it was trained on (an evaluation on them would be in-sample).
   const std::vector<std::string>& subjects() const { return subjects_; }
@@ -112,10 +125,13 @@ class AppearanceGaze {
 
  private:
   friend class AppearanceGazeTrainer;
+  // The gaze turned into the head's frame by `turn`, gated by `head_yaw`.
+  AppearanceReading ReadTurnedBy(const cv::Mat& crop, int eye, double head_yaw, double turn) const;
   // A weight per feature, then the intercept. Yaws are learned in the
   // mirrored frame, where both eyes turn alike.
   Eigen::VectorXd pitch_, frontal_yaw_;  // on the band
   Eigen::VectorXd camera_yaw_, head_yaw_;  // on the whole crop
+  double head_yaw_slope_ = 1.0;
   std::vector<std::string> subjects_;
   double ridge_ = 0;
   Samples samples_;
@@ -139,13 +155,17 @@ class AppearanceGazeTrainer {
   struct Sums {
     Eigen::MatrixXd normal;  // XᵀX with the intercept's column
     Eigen::VectorXd rhs;     // Xᵀy
+    double label_squares = 0;  // yᵀy
     int samples = 0;
     void Add(const Eigen::VectorXd& row, double label);
   };
   struct SubjectSums {
     Sums pitch, frontal_yaw, camera_yaw, head_yaw;
   };
-  Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
+  Eigen::VectorXd SolveOne(const std::vector<std::string>& left_out, Sums SubjectSums::*angle, const char* name,
+                           int& samples) const;
+  // AppearanceGaze::head_yaw_slope() of the model trained without `left_out`.
+  double HeadYawSlope(const std::string& left_out) const;
   std::map<std::string, SubjectSums> by_subject_;
   double ridge_;
 };

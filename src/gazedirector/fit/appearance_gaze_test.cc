@@ -130,16 +130,32 @@ TEST(AppearanceGazeTest, ReadsHowFarTheHeadIsTurned) {
     EXPECT_GT(Mean(pose->second) - Mean(std::prev(pose)->second), 8) << pose->first;  // 10-14 when written
   }
   // The gaze relative to the head, with the head's yaw read from the photo.
+  // Turned by the reading as it is, a turned eye falls short with it; turned
+  // by the reading undone of its slope, much less so.
   double yaw_error = 0, zero_yaw_error = 0;
+  std::map<int, std::vector<double>> signed_errors, signed_errors_unscaled;  // at +-30, by head pose
   for (const ColumbiaCrop& crop : crops) {
-    const AppearanceReading reading = models.at(crop.subject).Read(cv::imread(crop.path.string()), crop.ModelEye(),
-                                                                   head_yaws.at(crop.Photo()));
-    EXPECT_EQ(reading.head_yaw, head_yaws.at(crop.Photo()));
+    const AppearanceGaze& model = models.at(crop.subject);
+    const cv::Mat image = cv::imread(crop.path.string());
+    const double head_yaw = head_yaws.at(crop.Photo());
+    const AppearanceReading reading = model.ReadGivenHeadReading(image, crop.ModelEye(), head_yaw);
+    EXPECT_EQ(reading.head_yaw, head_yaw);
     const double label = crop.Label(GazeFrame::kHead).y();
     yaw_error += std::abs(reading.yaw - label);
     zero_yaw_error += std::abs(label);
+    if (std::abs(crop.head_pose) != 30) continue;
+    signed_errors[crop.head_pose].push_back(reading.yaw - label);
+    signed_errors_unscaled[crop.head_pose].push_back(model.Read(image, crop.ModelEye(), head_yaw).yaw - label);
   }
   EXPECT_LT(yaw_error, 0.5 * zero_yaw_error);  // 0.32 when written
+  for (const auto& [pose, errors] : signed_errors) {
+    const double unscaled = std::abs(Mean(signed_errors_unscaled.at(pose)));
+    EXPECT_LT(std::abs(Mean(errors)), 0.75 * unscaled) << pose;  // 0.12 and 0.57 of it when written
+  }
+  for (const auto& [subject, model] : models) {
+    EXPECT_GT(model.head_yaw_slope(), 0.7) << subject;  // 0.81-0.83 when written
+    EXPECT_LT(model.head_yaw_slope(), 0.95) << subject;
+  }
 }
 
 // Given how far the head is turned, a turned eye is read its whole turn in
@@ -182,6 +198,7 @@ TEST(AppearanceGazeTest, ASavedModelReadsAlike) {
   EXPECT_NEAR(loaded.Read(crop, kLeftEye).pitch, model.Read(crop, kLeftEye).pitch, 1e-9);
   EXPECT_NEAR(loaded.Read(crop, kLeftEye).yaw, model.Read(crop, kLeftEye).yaw, 1e-9);
   EXPECT_NEAR(loaded.ReadHeadYaw(crop, kLeftEye), model.ReadHeadYaw(crop, kLeftEye), 1e-9);
+  EXPECT_EQ(loaded.head_yaw_slope(), model.head_yaw_slope());
   EXPECT_EQ(loaded.samples(), model.samples());
 }
 
@@ -226,6 +243,7 @@ TEST(AppearanceGazeTest, TheShippedModelIsTheOneTheDataMake) {
   const AppearanceGaze retrained = trainer.Solve();
   EXPECT_EQ(retrained.subjects(), shipped.subjects());
   EXPECT_EQ(retrained.samples(), shipped.samples());
+  EXPECT_NEAR(retrained.head_yaw_slope(), shipped.head_yaw_slope(), 1e-9);
   for (const ColumbiaCrop& crop : FrontalCrops()) {
     if (crop.vertical != 10 || crop.horizontal != 0) continue;
     const cv::Mat image = cv::imread(crop.path.string());
