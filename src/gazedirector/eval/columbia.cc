@@ -28,8 +28,7 @@ double ColumbiaCrop::HeadYaw() const { return -head_pose; }
 
 Eigen::Vector2d ColumbiaCrop::Label(GazeFrame frame) const {
   if (frame == GazeFrame::kCamera) return Eigen::Vector2d(vertical, horizontal);
-  const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(HeadYaw()), 0));
-  return EyeRegionModel::PitchYawInHead(head.transpose() * EyeRegionModel::GazeInHead(vertical, horizontal));
+  return EyeRegionModel::CameraGazeInHead(vertical, horizontal, HeadYaw());
 }
 
 std::string ColumbiaCrop::Photo() const {

@@ -1,6 +1,5 @@
 #include "gazedirector/fit/appearance_gaze.h"
 
-#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -9,7 +8,6 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
 
-#include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/atomic_output.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/util/error.h"
@@ -88,15 +86,6 @@ Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
   return row;
 }
 
-// A gaze's pitch and yaw (degrees) relative to the head, as relative to the
-// camera (`to_camera`) or back, for a head turned by `head_yaw`.
-Eigen::Vector2d TurnGaze(double pitch, double yaw, double head_yaw, bool to_camera) {
-  const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(head_yaw), 0));
-  const Eigen::Vector3d gaze = EyeRegionModel::GazeInHead(pitch, yaw);
-  const Eigen::Vector3d turned = to_camera ? Eigen::Vector3d(head * gaze) : Eigen::Vector3d(head.transpose() * gaze);
-  return EyeRegionModel::PitchYawInHead(turned);
-}
-
 std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
 }  // namespace
@@ -134,7 +123,7 @@ AppearanceReading AppearanceGaze::ReadTurnedBy(const cv::Mat& crop, int eye, dou
   AppearanceReading reading;
   reading.pitch = pitch_.dot(band);
   const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(CropRow(grey, eye));
-  const double turned = TurnGaze(reading.pitch, camera_yaw, turn, /*to_camera=*/false).y();
+  const double turned = EyeRegionModel::CameraGazeInHead(reading.pitch, camera_yaw, turn).y();
   reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(band) + (1 - frontal) * turned;
   reading.head_yaw = head_yaw;
   reading.frontal = frontal;
@@ -232,47 +221,58 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
   SubjectSums& sums = by_subject_[subject];
   sums.pitch.Add(band, label.pitch);
   sums.frontal_yaw.Add(band, label.head_yaw == 0 ? sign * label.yaw : nan);
-  const double camera_yaw =
-      std::isnan(label.yaw) || std::isnan(label.head_yaw)
-          ? nan
-          : TurnGaze(std::isnan(label.pitch) ? 0.0 : label.pitch, label.yaw, label.head_yaw, /*to_camera=*/true).y();
+  // Relative to the camera: the gaze relative to the head turned back by the head's yaw.
+  const double pitch = std::isnan(label.pitch) ? 0.0 : label.pitch;
+  const double camera_yaw = std::isnan(label.yaw) || std::isnan(label.head_yaw)
+                                ? nan
+                                : EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y();
   sums.camera_yaw.Add(whole, sign * camera_yaw);
   sums.head_yaw.Add(whole, sign * label.head_yaw);
 }
 
-Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::vector<std::string>& left_out, Sums SubjectSums::*angle,
-                                                const char* name, int& samples) const {
-  Eigen::MatrixXd normal;
-  Eigen::VectorXd rhs;
-  samples = 0;
+AppearanceGazeTrainer::Sums AppearanceGazeTrainer::Total(const std::string& left_out,
+                                                         Sums SubjectSums::*angle) const {
+  Sums total;
   for (const auto& [subject, sums] : by_subject_) {
     const Sums& these = sums.*angle;
-    if (std::find(left_out.begin(), left_out.end(), subject) != left_out.end() || these.samples == 0) continue;
-    if (samples == 0) {
-      normal = these.normal;
-      rhs = these.rhs;
+    if (subject == left_out || these.samples == 0) continue;
+    if (total.samples == 0) {
+      total = these;
     } else {
-      normal += these.normal;
-      rhs += these.rhs;
+      total.normal += these.normal;
+      total.rhs += these.rhs;
+      total.label_squares += these.label_squares;
+      total.samples += these.samples;
     }
-    samples += these.samples;
   }
-  if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
+  return total;
+}
+
+Eigen::VectorXd AppearanceGazeTrainer::SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs) const {
   // Neither the intercept nor the eye's side (the last two) is penalised: they carry offsets.
   normal.diagonal().head(normal.rows() - 2).array() += ridge_;
   return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
 }
 
+Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle,
+                                                const char* name, int& samples) const {
+  const Sums total = Total(left_out, angle);
+  samples = total.samples;
+  if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
+  return SolveRidge(total.normal, total.rhs);
+}
+
 double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
   // Each training subject read by a regression trained without them and
-  // without `left_out`. The sum over the subject's crops of reading times
-  // label is the weights times the subject's own Xᵀy, so no crop is kept.
+  // without `left_out`: the sums of everyone but `left_out`, less the
+  // subject's own. The sum over the subject's crops of reading times label
+  // is the weights times the subject's Xᵀy, so no crop is kept.
+  const Sums rest = Total(left_out, &SubjectSums::head_yaw);
   double reading_times_label = 0, label_squares = 0;
   for (const auto& [subject, sums] : by_subject_) {
     const Sums& these = sums.head_yaw;
-    if (subject == left_out || these.samples == 0) continue;
-    int samples = 0;
-    const Eigen::VectorXd weights = SolveOne({left_out, subject}, &SubjectSums::head_yaw, "head yaw", samples);
+    if (subject == left_out || these.samples == 0 || these.samples == rest.samples) continue;
+    const Eigen::VectorXd weights = SolveRidge(rest.normal - these.normal, rest.rhs - these.rhs);
     reading_times_label += weights.dot(these.rhs);
     label_squares += these.label_squares;
   }
@@ -283,12 +283,11 @@ double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
 
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   AppearanceGaze model;
-  const std::vector<std::string> excluded = left_out.empty() ? std::vector<std::string>{} : std::vector{left_out};
-  model.pitch_ = SolveOne(excluded, &SubjectSums::pitch, "pitch", model.samples_.pitch);
-  model.frontal_yaw_ = SolveOne(excluded, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
+  model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.samples_.pitch);
+  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
                                 model.samples_.frontal_yaw);
-  model.camera_yaw_ = SolveOne(excluded, &SubjectSums::camera_yaw, "yaw", model.samples_.camera_yaw);
-  model.head_yaw_ = SolveOne(excluded, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
+  model.camera_yaw_ = SolveOne(left_out, &SubjectSums::camera_yaw, "yaw", model.samples_.camera_yaw);
+  model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
   model.head_yaw_slope_ = HeadYawSlope(left_out);
   for (const auto& [subject, sums] : by_subject_) {
     if (subject != left_out) model.subjects_.push_back(subject);

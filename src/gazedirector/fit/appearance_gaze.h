@@ -162,8 +162,10 @@ class AppearanceGazeTrainer {
   struct SubjectSums {
     Sums pitch, frontal_yaw, camera_yaw, head_yaw;
   };
-  Eigen::VectorXd SolveOne(const std::vector<std::string>& left_out, Sums SubjectSums::*angle, const char* name,
-                           int& samples) const;
+  // One regression's sums over every subject but `left_out`.
+  Sums Total(const std::string& left_out, Sums SubjectSums::*angle) const;
+  Eigen::VectorXd SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs) const;
+  Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
   // AppearanceGaze::head_yaw_slope() of the model trained without `left_out`.
   double HeadYawSlope(const std::string& left_out) const;
   std::map<std::string, SubjectSums> by_subject_;

@@ -147,6 +147,11 @@ Eigen::Vector2d EyeRegionModel::PitchYawInHead(const Eigen::Vector3d& direction)
   return {RadToDeg(std::asin(std::clamp(-u.y(), -1.0, 1.0))), RadToDeg(std::atan2(u.x(), -u.z()))};
 }
 
+Eigen::Vector2d EyeRegionModel::CameraGazeInHead(double pitch_deg, double yaw_deg, double head_yaw_deg) {
+  const Eigen::Matrix3d head = RotationFromEulerXYZ(Eigen::Vector3d(0, DegToRad(head_yaw_deg), 0));
+  return PitchYawInHead(head.transpose() * GazeInHead(pitch_deg, yaw_deg));
+}
+
 double EyeRegionModel::EyeYaw(const Parameters& phi, int eye) {
   // The left eye sits at +x; converging turns it toward -x (smaller yaw).
   return eye == kLeftEye ? phi.gaze_yaw() - 0.5 * phi.vergence() : phi.gaze_yaw() + 0.5 * phi.vergence();

@@ -118,6 +118,10 @@ class EyeRegionModel {
   // The inverse: pitch and yaw (degrees) of a direction in the head frame.
   static Eigen::Vector2d PitchYawInHead(const Eigen::Vector3d& direction);
   static Eigen::Matrix3d GazeRotation(double pitch_deg, double yaw_deg);
+  // A gaze direction's pitch and yaw (degrees) relative to the camera, as
+  // relative to a head turned by `head_yaw_deg` (Parameters::rotation_deg().y());
+  // with -head_yaw_deg, the other way.
+  static Eigen::Vector2d CameraGazeInHead(double pitch_deg, double yaw_deg, double head_yaw_deg);
   // Yaw of one eye: vergence turns each eye toward the nose by half its angle.
   static double EyeYaw(const Parameters& phi, int eye);
   // The eyeball centre in the head frame.
