@@ -20,7 +20,9 @@ namespace {
 constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
 constexpr int kBandPixels = kBandRows * kBandColumns;
-constexpr const char* kFormat = "gazedirector-appearance-gaze-4";
+constexpr const char* kFormat = "gazedirector-appearance-gaze-5";
+// The head yaw that scales the turned features: 1 at a 30-degree turn.
+constexpr double kTurnScaleDeg = 30.0;
 
 // Yaws are learned in the mirrored frame, where both eyes turn alike.
 double MirroredYawSign(int eye) { return eye == kLeftEye ? -1.0 : 1.0; }
@@ -86,6 +88,19 @@ Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
   return row;
 }
 
+// The whole crop's features, then the same scaled by the head's yaw in the
+// mirrored frame (t, 1 at kTurnScaleDeg), then t and t², the eye's side and the
+// intercept: the last four are not penalised (kTurnedOffsets).
+Eigen::VectorXd TurnedRow(const cv::Mat& grey, int eye, double head_yaw) {
+  const Eigen::VectorXd crop = CropRow(grey, eye);
+  const Eigen::Index n = crop.size() - 2;
+  const double t = MirroredYawSign(eye) * head_yaw / kTurnScaleDeg;
+  Eigen::VectorXd row(2 * n + 4);
+  row << crop.head(n), t * crop.head(n), t, t * t, crop.tail(2);
+  return row;
+}
+constexpr int kOffsets = 2, kTurnedOffsets = 4;
+
 std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
 }  // namespace
@@ -95,6 +110,8 @@ int AppearanceGaze::NumBandFeatures() { return kBandPixels + 1; }
 int AppearanceGaze::NumCropFeatures() {
   return kBandPixels + static_cast<int>(Hog().getDescriptorSize()) + 1;
 }
+
+int AppearanceGaze::NumTurnedFeatures() { return 2 * (NumCropFeatures() - 1) + 3; }
 
 Eigen::VectorXd AppearanceGaze::BandFeatures(const cv::Mat& crop, int eye) {
   return BandRow(MirroredGrey(crop, eye), eye).head(NumBandFeatures());
@@ -122,7 +139,7 @@ AppearanceReading AppearanceGaze::ReadTurnedBy(const cv::Mat& crop, int eye, dou
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
   AppearanceReading reading;
   reading.pitch = pitch_.dot(band);
-  const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(CropRow(grey, eye));
+  const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(TurnedRow(grey, eye, head_yaw));
   const double turned = EyeRegionModel::CameraGazeInHead(reading.pitch, camera_yaw, turn).y();
   reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(band) + (1 - frontal) * turned;
   reading.head_yaw = head_yaw;
@@ -178,7 +195,7 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
     };
     model.pitch_ = load("pitch", NumBandFeatures());
     model.frontal_yaw_ = load("frontal_mirrored_yaw", NumBandFeatures());
-    model.camera_yaw_ = load("mirrored_camera_yaw", NumCropFeatures());
+    model.camera_yaw_ = load("mirrored_camera_yaw", NumTurnedFeatures());
     model.head_yaw_ = load("mirrored_head_yaw", NumCropFeatures());
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
     model.ridge_ = json.at("ridge").get<double>();
@@ -226,7 +243,7 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
   const double camera_yaw = std::isnan(label.yaw) || std::isnan(label.head_yaw)
                                 ? nan
                                 : EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y();
-  sums.camera_yaw.Add(whole, sign * camera_yaw);
+  sums.camera_yaw.Add(TurnedRow(grey, eye, label.head_yaw), sign * camera_yaw);
   sums.head_yaw.Add(whole, sign * label.head_yaw);
 }
 
@@ -248,9 +265,11 @@ AppearanceGazeTrainer::Sums AppearanceGazeTrainer::Total(const std::string& left
   return total;
 }
 
-Eigen::VectorXd AppearanceGazeTrainer::SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs) const {
-  // Neither the intercept nor the eye's side (the last two) is penalised: they carry offsets.
-  normal.diagonal().head(normal.rows() - 2).array() += ridge_;
+Eigen::VectorXd AppearanceGazeTrainer::SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs,
+                                                  int offsets) const {
+  // The last `offsets` features (the intercept, the eye's side and, turned,
+  // t and t²) are not penalised: they carry offsets.
+  normal.diagonal().head(normal.rows() - offsets).array() += ridge_;
   return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
 }
 
@@ -259,7 +278,7 @@ Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sum
   const Sums total = Total(left_out, angle);
   samples = total.samples;
   if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
-  return SolveRidge(total.normal, total.rhs);
+  return SolveRidge(total.normal, total.rhs, angle == &SubjectSums::camera_yaw ? kTurnedOffsets : kOffsets);
 }
 
 double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
@@ -272,7 +291,7 @@ double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
   for (const auto& [subject, sums] : by_subject_) {
     const Sums& these = sums.head_yaw;
     if (subject == left_out || these.samples == 0 || these.samples == rest.samples) continue;
-    const Eigen::VectorXd weights = SolveRidge(rest.normal - these.normal, rest.rhs - these.rhs);
+    const Eigen::VectorXd weights = SolveRidge(rest.normal - these.normal, rest.rhs - these.rhs, kOffsets);
     reading_times_label += weights.dot(these.rhs);
     label_squares += these.label_squares;
   }

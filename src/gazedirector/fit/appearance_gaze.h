@@ -56,8 +56,10 @@ struct AppearanceLabel {
 //   pitch        on the eye band, learned from every crop;
 //   frontal yaw  on the eye band, learned from crops whose head faces the
 //                camera (head yaw 0), where it reads best;
-//   camera yaw   the gaze's yaw relative to the camera, on the whole crop,
-//                learned from every crop;
+//   camera yaw   the gaze's yaw relative to the camera, on the whole crop
+//                and the same scaled by the head's yaw (so that the eye
+//                nearer the camera and the one farther away are each read by
+//                their own weights), learned from every crop;
 //   head yaw     on the whole crop, learned from every crop.
 // The yaw read is the frontal yaw where the head yaw is near 0 and, where
 // the head is turned, the camera yaw turned into the head's frame by the
@@ -85,6 +87,10 @@ class AppearanceGaze {
   static constexpr int kHogSize = 32;
   static int NumCropFeatures();
   static Eigen::VectorXd CropFeatures(const cv::Mat& crop, int eye);
+  // The camera yaw's features: the whole crop's, then the same scaled by the
+  // head's yaw, so that a near eye and a far eye are read each by its own
+  // weights.
+  static int NumTurnedFeatures();
   // About the head-yaw reading's own error, degrees.
   static constexpr double kFrontalWidthDeg = 7.0;
 
@@ -97,8 +103,9 @@ class AppearanceGaze {
   // reads people it was not trained on short of the turns it learned (a 30
   // degree turn as about 23 on Columbia), and a turned eye's gaze relative to
   // the head falls short with it, so the camera yaw is turned by the reading
-  // divided by head_yaw_slope(). How frontal the head reads, and where the
-  // fit starts, keep the reading itself, which is less noisy near 0.
+  // divided by head_yaw_slope(). How frontal the head reads, the camera
+  // yaw's head-yaw terms and where the fit starts keep the reading itself,
+  // which is less noisy near 0.
   AppearanceReading ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const;
   AppearanceReading Read(const cv::Mat& crop, int eye) const {
     return ReadGivenHeadReading(crop, eye, ReadHeadYaw(crop, eye));
@@ -164,7 +171,7 @@ class AppearanceGazeTrainer {
   };
   // One regression's sums over every subject but `left_out`.
   Sums Total(const std::string& left_out, Sums SubjectSums::*angle) const;
-  Eigen::VectorXd SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs) const;
+  Eigen::VectorXd SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs, int offsets) const;
   Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
   // AppearanceGaze::head_yaw_slope() of the model trained without `left_out`.
   double HeadYawSlope(const std::string& left_out) const;
