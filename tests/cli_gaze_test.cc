@@ -201,13 +201,12 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   }
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
   EXPECT_EQ(model["head_yaw_slope"].get<double>(), 1.0);  // every head faces the camera: nothing to learn it from
-  // The 8 x 12 band, the eye's side and the intercept, for pitch and frontal
-  // yaw; the band, 324 gradient bins, the side and the intercept for the
-  // whole crop's head yaw; for its camera yaw the band and bins twice (the
-  // second time scaled by the head's yaw), the yaw and its square, the side
-  // and the intercept.
-  EXPECT_EQ(model["weights"]["pitch"].size(), 98u);
-  EXPECT_EQ(model["weights"]["frontal_mirrored_yaw"].size(), 98u);
+  // The 8 x 12 band, 324 gradient bins, the eye's side and the intercept for
+  // pitch, frontal yaw and head yaw; for the camera yaw the band and bins
+  // twice (the second time scaled by the head's yaw), the yaw and its square,
+  // the side and the intercept.
+  EXPECT_EQ(model["weights"]["pitch"].size(), 422u);
+  EXPECT_EQ(model["weights"]["frontal_mirrored_yaw"].size(), 422u);
   EXPECT_EQ(model["weights"]["mirrored_camera_yaw"].size(), 844u);
   EXPECT_EQ(model["weights"]["mirrored_head_yaw"].size(), 422u);
   // With every head facing the camera the head-yaw terms have nothing to

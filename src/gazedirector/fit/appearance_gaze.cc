@@ -20,7 +20,7 @@ namespace {
 constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
 constexpr int kBandPixels = kBandRows * kBandColumns;
-constexpr const char* kFormat = "gazedirector-appearance-gaze-5";
+constexpr const char* kFormat = "gazedirector-appearance-gaze-6";
 // The head yaw that scales the turned features: 1 at a 30-degree turn.
 constexpr double kTurnScaleDeg = 30.0;
 
@@ -76,12 +76,6 @@ Eigen::VectorXd Gradients(const cv::Mat& grey) {
   return Eigen::Map<const Eigen::VectorXf>(histogram.data(), size).cast<double>();
 }
 
-Eigen::VectorXd BandRow(const cv::Mat& grey, int eye) {
-  Eigen::VectorXd row(AppearanceGaze::NumBandFeatures() + 1);
-  row << BandPixels(grey), MirroredYawSign(eye), 1.0;
-  return row;
-}
-
 Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
   Eigen::VectorXd row(AppearanceGaze::NumCropFeatures() + 1);
   row << BandPixels(grey), Gradients(grey), MirroredYawSign(eye), 1.0;
@@ -91,8 +85,7 @@ Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
 // The whole crop's features, then the same scaled by the head's yaw in the
 // mirrored frame (t, 1 at kTurnScaleDeg), then t and t², the eye's side and the
 // intercept: the last four are not penalised (kTurnedOffsets).
-Eigen::VectorXd TurnedRow(const cv::Mat& grey, int eye, double head_yaw) {
-  const Eigen::VectorXd crop = CropRow(grey, eye);
+Eigen::VectorXd TurnedRow(const Eigen::VectorXd& crop, int eye, double head_yaw) {
   const Eigen::Index n = crop.size() - 2;
   const double t = MirroredYawSign(eye) * head_yaw / kTurnScaleDeg;
   Eigen::VectorXd row(2 * n + 4);
@@ -114,7 +107,9 @@ int AppearanceGaze::NumCropFeatures() {
 int AppearanceGaze::NumTurnedFeatures() { return 2 * (NumCropFeatures() - 1) + 3; }
 
 Eigen::VectorXd AppearanceGaze::BandFeatures(const cv::Mat& crop, int eye) {
-  return BandRow(MirroredGrey(crop, eye), eye).head(NumBandFeatures());
+  Eigen::VectorXd features(NumBandFeatures());
+  features << BandPixels(MirroredGrey(crop, eye)), MirroredYawSign(eye);
+  return features;
 }
 
 Eigen::VectorXd AppearanceGaze::CropFeatures(const cv::Mat& crop, int eye) {
@@ -134,14 +129,13 @@ AppearanceReading AppearanceGaze::ReadGivenHeadReading(const cv::Mat& crop, int 
 }
 
 AppearanceReading AppearanceGaze::ReadTurnedBy(const cv::Mat& crop, int eye, double head_yaw, double turn) const {
-  const cv::Mat grey = MirroredGrey(crop, eye);
-  const Eigen::VectorXd band = BandRow(grey, eye);
+  const Eigen::VectorXd row = CropRow(MirroredGrey(crop, eye), eye);
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
   AppearanceReading reading;
-  reading.pitch = pitch_.dot(band);
-  const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(TurnedRow(grey, eye, head_yaw));
+  reading.pitch = pitch_.dot(row);
+  const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(TurnedRow(row, eye, head_yaw));
   const double turned = EyeRegionModel::CameraGazeInHead(reading.pitch, camera_yaw, turn).y();
-  reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(band) + (1 - frontal) * turned;
+  reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(row) + (1 - frontal) * turned;
   reading.head_yaw = head_yaw;
   reading.frontal = frontal;
   return reading;
@@ -193,8 +187,8 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
       if (!loaded.allFinite()) Fail(ExitCode::kAssets, "{}: {} weights are not finite", path.string(), key);
       return loaded;
     };
-    model.pitch_ = load("pitch", NumBandFeatures());
-    model.frontal_yaw_ = load("frontal_mirrored_yaw", NumBandFeatures());
+    model.pitch_ = load("pitch", NumCropFeatures());
+    model.frontal_yaw_ = load("frontal_mirrored_yaw", NumCropFeatures());
     model.camera_yaw_ = load("mirrored_camera_yaw", NumTurnedFeatures());
     model.head_yaw_ = load("mirrored_head_yaw", NumCropFeatures());
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
@@ -230,20 +224,18 @@ void AppearanceGazeTrainer::Sums::Add(const Eigen::VectorXd& row, double label) 
 
 void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop, int eye,
                                 const AppearanceLabel& label) {
-  const cv::Mat grey = MirroredGrey(crop, eye);
-  const Eigen::VectorXd band = BandRow(grey, eye);
-  const Eigen::VectorXd whole = CropRow(grey, eye);
+  const Eigen::VectorXd whole = CropRow(MirroredGrey(crop, eye), eye);
   const double sign = MirroredYawSign(eye);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   SubjectSums& sums = by_subject_[subject];
-  sums.pitch.Add(band, label.pitch);
-  sums.frontal_yaw.Add(band, label.head_yaw == 0 ? sign * label.yaw : nan);
+  sums.pitch.Add(whole, label.pitch);
+  sums.frontal_yaw.Add(whole, label.head_yaw == 0 ? sign * label.yaw : nan);
   // Relative to the camera: the gaze relative to the head turned back by the head's yaw.
   const double pitch = std::isnan(label.pitch) ? 0.0 : label.pitch;
   const double camera_yaw = std::isnan(label.yaw) || std::isnan(label.head_yaw)
                                 ? nan
                                 : EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y();
-  sums.camera_yaw.Add(TurnedRow(grey, eye, label.head_yaw), sign * camera_yaw);
+  sums.camera_yaw.Add(TurnedRow(whole, eye, label.head_yaw), sign * camera_yaw);
   sums.head_yaw.Add(whole, sign * label.head_yaw);
 }
 

@@ -52,15 +52,15 @@ struct AppearanceLabel {
 // so the estimate stays the fitted model's, with a prior that knows about
 // people.
 //
-// Four regressions:
-//   pitch        on the eye band, learned from every crop;
-//   frontal yaw  on the eye band, learned from crops whose head faces the
-//                camera (head yaw 0), where it reads best;
-//   camera yaw   the gaze's yaw relative to the camera, on the whole crop
-//                and the same scaled by the head's yaw (so that the eye
-//                nearer the camera and the one farther away are each read by
-//                their own weights), learned from every crop;
-//   head yaw     on the whole crop, learned from every crop.
+// Four regressions on the whole crop (CropFeatures):
+//   pitch        learned from every crop;
+//   frontal yaw  learned from crops whose head faces the camera (head yaw
+//                0), where it reads best;
+//   camera yaw   the gaze's yaw relative to the camera, on the crop's
+//                features and the same scaled by the head's yaw (so that the
+//                eye nearer the camera and the one farther away are each read
+//                by their own weights), learned from every crop;
+//   head yaw     learned from every crop.
 // The yaw read is the frontal yaw where the head yaw is near 0 and, where
 // the head is turned, the camera yaw turned into the head's frame by the
 // head yaw Read is given, blended by a Gaussian of width kFrontalWidthDeg in
@@ -136,8 +136,8 @@ class AppearanceGaze {
   AppearanceReading ReadTurnedBy(const cv::Mat& crop, int eye, double head_yaw, double turn) const;
   // A weight per feature, then the intercept. Yaws are learned in the
   // mirrored frame, where both eyes turn alike.
-  Eigen::VectorXd pitch_, frontal_yaw_;  // on the band
-  Eigen::VectorXd camera_yaw_, head_yaw_;  // on the whole crop
+  Eigen::VectorXd pitch_, frontal_yaw_, head_yaw_;  // on the whole crop
+  Eigen::VectorXd camera_yaw_;  // on the whole crop and the same scaled by the head's yaw
   double head_yaw_slope_ = 1.0;
   std::vector<std::string> subjects_;
   double ridge_ = 0;

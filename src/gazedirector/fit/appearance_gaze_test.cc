@@ -72,7 +72,7 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
   for (const ColumbiaCrop& crop : FrontalCrops()) {
     const AppearanceGaze& model = models.at(crop.subject);
     EXPECT_EQ(std::count(model.subjects().begin(), model.subjects().end(), crop.subject), 0);
-    // The head known to face the camera: the band's regressions alone.
+    // The head known to face the camera: the frontal regressions alone.
     const AppearanceReading reading = model.Read(cv::imread(crop.path.string()), crop.ModelEye(), 0.0);
     readings[crop.subject][crop.vertical].push_back(reading.pitch);
     yaw_readings[crop.horizontal].push_back(reading.yaw);
@@ -81,8 +81,10 @@ TEST(AppearanceGazeTest, ReadsTheGazeOfPeopleItWasNotTrainedOn) {
     yaw_error += std::abs(reading.yaw - crop.horizontal);
     zero_yaw_error += std::abs(crop.horizontal);
   }
-  EXPECT_LT(pitch_error, 0.7 * zero_pitch_error);  // about 0.65 when written
-  EXPECT_LT(yaw_error, 0.6 * zero_yaw_error);  // 0.46 when written
+  // Read from the whole crop (the band and its gradient histogram), pitch
+  // errs less than from the eye band alone.
+  EXPECT_LT(pitch_error, 0.6 * zero_pitch_error);  // 0.56 when written; about 0.65 from the band alone
+  EXPECT_LT(yaw_error, 0.6 * zero_yaw_error);  // 0.45 when written; 0.46 from the band alone
   // Across everyone, the yaw read rises with the label's, 5 degrees at a time.
   for (int label = -10; label <= 15; label += 5) {
     EXPECT_GT(Mean(yaw_readings[label]) - Mean(yaw_readings[label - 5]), 2.5) << label;  // 3.5-4.5 when written
