@@ -117,19 +117,29 @@ Eigen::VectorXd AppearanceGaze::CropFeatures(const cv::Mat& crop, int eye) {
 }
 
 double AppearanceGaze::ReadHeadYaw(const cv::Mat& crop, int eye) const {
-  return MirroredYawSign(eye) * head_yaw_.dot(CropRow(MirroredGrey(crop, eye), eye));
+  return HeadYawOf(CropRow(MirroredGrey(crop, eye), eye), eye);
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head_yaw) const {
-  return ReadTurnedBy(crop, eye, head_yaw, head_yaw);
+  return ReadTurnedBy(CropRow(MirroredGrey(crop, eye), eye), eye, head_yaw, head_yaw);
 }
 
 AppearanceReading AppearanceGaze::ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const {
-  return ReadTurnedBy(crop, eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
+  return ReadTurnedBy(CropRow(MirroredGrey(crop, eye), eye), eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
 }
 
-AppearanceReading AppearanceGaze::ReadTurnedBy(const cv::Mat& crop, int eye, double head_yaw, double turn) const {
+AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye) const {
   const Eigen::VectorXd row = CropRow(MirroredGrey(crop, eye), eye);
+  const double read_head_yaw = HeadYawOf(row, eye);
+  return ReadTurnedBy(row, eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
+}
+
+double AppearanceGaze::HeadYawOf(const Eigen::VectorXd& row, int eye) const {
+  return MirroredYawSign(eye) * head_yaw_.dot(row);
+}
+
+AppearanceReading AppearanceGaze::ReadTurnedBy(const Eigen::VectorXd& row, int eye, double head_yaw,
+                                               double turn) const {
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
   AppearanceReading reading;
   reading.pitch = pitch_.dot(row);
@@ -265,12 +275,12 @@ Eigen::VectorXd AppearanceGazeTrainer::SolveRidge(Eigen::MatrixXd normal, const 
   return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
 }
 
-Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle,
+Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle, int offsets,
                                                 const char* name, int& samples) const {
   const Sums total = Total(left_out, angle);
   samples = total.samples;
   if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
-  return SolveRidge(total.normal, total.rhs, angle == &SubjectSums::camera_yaw ? kTurnedOffsets : kOffsets);
+  return SolveRidge(total.normal, total.rhs, offsets);
 }
 
 double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
@@ -294,11 +304,11 @@ double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
 
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   AppearanceGaze model;
-  model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, "pitch", model.samples_.pitch);
-  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, "yaw with the head facing the camera",
+  model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, kOffsets, "pitch", model.samples_.pitch);
+  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, kOffsets, "yaw with the head facing the camera",
                                 model.samples_.frontal_yaw);
-  model.camera_yaw_ = SolveOne(left_out, &SubjectSums::camera_yaw, "yaw", model.samples_.camera_yaw);
-  model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, "head yaw", model.samples_.head_yaw);
+  model.camera_yaw_ = SolveOne(left_out, &SubjectSums::camera_yaw, kTurnedOffsets, "yaw", model.samples_.camera_yaw);
+  model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, kOffsets, "head yaw", model.samples_.head_yaw);
   model.head_yaw_slope_ = HeadYawSlope(left_out);
   for (const auto& [subject, sums] : by_subject_) {
     if (subject != left_out) model.subjects_.push_back(subject);

@@ -107,9 +107,7 @@ class AppearanceGaze {
   // yaw's head-yaw terms and where the fit starts keep the reading itself,
   // which is less noisy near 0.
   AppearanceReading ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const;
-  AppearanceReading Read(const cv::Mat& crop, int eye) const {
-    return ReadGivenHeadReading(crop, eye, ReadHeadYaw(crop, eye));
-  }
+  AppearanceReading Read(const cv::Mat& crop, int eye) const;
   // How much of a head's yaw the regression reads, on average, for people it
   // was not trained on: each training subject read by a regression trained
   // without them, the least-squares slope of reading on label (through 0).
@@ -132,8 +130,11 @@ class AppearanceGaze {
 
  private:
   friend class AppearanceGazeTrainer;
-  // The gaze turned into the head's frame by `turn`, gated by `head_yaw`.
-  AppearanceReading ReadTurnedBy(const cv::Mat& crop, int eye, double head_yaw, double turn) const;
+  // On a crop's features (CropFeatures and the intercept): the head's yaw
+  // as read, and the gaze turned into the head's frame by `turn`, gated by
+  // `head_yaw`.
+  double HeadYawOf(const Eigen::VectorXd& row, int eye) const;
+  AppearanceReading ReadTurnedBy(const Eigen::VectorXd& row, int eye, double head_yaw, double turn) const;
   // A weight per feature, then the intercept. Yaws are learned in the
   // mirrored frame, where both eyes turn alike.
   Eigen::VectorXd pitch_, frontal_yaw_, head_yaw_;  // on the whole crop
@@ -172,7 +173,9 @@ class AppearanceGazeTrainer {
   // One regression's sums over every subject but `left_out`.
   Sums Total(const std::string& left_out, Sums SubjectSums::*angle) const;
   Eigen::VectorXd SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs, int offsets) const;
-  Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, const char* name, int& samples) const;
+  // `offsets`: the trailing features SolveRidge leaves unpenalised.
+  Eigen::VectorXd SolveOne(const std::string& left_out, Sums SubjectSums::*angle, int offsets, const char* name,
+                           int& samples) const;
   // AppearanceGaze::head_yaw_slope() of the model trained without `left_out`.
   double HeadYawSlope(const std::string& left_out) const;
   std::map<std::string, SubjectSums> by_subject_;
