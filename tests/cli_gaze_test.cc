@@ -193,26 +193,27 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   }
   ASSERT_EQ(linked, 84);
   std::string output;
-  ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.json"), &output), 0) << output;
-  std::ifstream stream(dir / "gaze.json");
-  const nlohmann::json model = nlohmann::json::parse(stream);
+  ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.cbor"), &output), 0) << output;
+  std::ifstream stream(dir / "gaze.cbor", std::ios::binary);
+  const nlohmann::json model = nlohmann::json::from_cbor(stream);
   for (const char* angle : {"pitch", "frontal_yaw", "camera_yaw", "head_yaw"}) {
     EXPECT_EQ(model["samples"][angle].get<int>(), 84) << angle;  // all frontal
   }
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
   EXPECT_EQ(model["head_yaw_slope"].get<double>(), 1.0);  // every head faces the camera: nothing to learn it from
-  // The 8 x 12 band, 324 gradient bins, the eye's side and the intercept for
-  // pitch, frontal yaw and head yaw; for the camera yaw the band and bins
-  // twice (the second time scaled by the head's yaw), the yaw and its square,
-  // the side and the intercept.
-  EXPECT_EQ(model["weights"]["pitch"].size(), 422u);
-  EXPECT_EQ(model["weights"]["frontal_mirrored_yaw"].size(), 422u);
-  EXPECT_EQ(model["weights"]["mirrored_camera_yaw"].size(), 844u);
-  EXPECT_EQ(model["weights"]["mirrored_head_yaw"].size(), 422u);
-  // With every head facing the camera the head-yaw terms have nothing to
-  // learn from; their weights are 0, not NaN (a file that would not load).
-  for (const nlohmann::json& weight : model["weights"]["mirrored_camera_yaw"]) ASSERT_TRUE(weight.is_number());
-  EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "gaze.json") + " -o " + Quote(dir / "none.json"), &output), 4)
+  // Every crop is an exemplar: its 8 x 12 band, 324 gradient bins and the
+  // eye's side, as floats; each regression has a weight per exemplar.
+  EXPECT_EQ(model["exemplar_count"].get<int>(), 84);
+  EXPECT_EQ(model["exemplars"].get_binary().size(), 84u * 421 * sizeof(float));
+  for (const char* regression : {"pitch", "frontal_mirrored_yaw", "mirrored_camera_yaw", "mirrored_head_yaw"}) {
+    EXPECT_EQ(model["regressions"][regression]["weights"].size(), 84u) << regression;
+    // With every head facing the camera the head turns' term has nothing to
+    // tell apart; the weights are numbers, not NaN (a file that would not load).
+    for (const nlohmann::json& weight : model["regressions"][regression]["weights"]) {
+      ASSERT_TRUE(weight.is_number()) << regression;
+    }
+  }
+  EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "gaze.cbor") + " -o " + Quote(dir / "none.json"), &output), 4)
       << output;
   EXPECT_EQ(RunCli("train-appearance " + Quote(dir) + " -o " + Quote(dir / "none.json"), &output), 4) << output;
   EXPECT_NE(output.find("no files named like"), std::string::npos) << output;

@@ -522,7 +522,7 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_option("--appearance-training", options->appearance_training,
                        "Labelled crops to train the appearance gaze prior on, each evaluated subject left out "
-                       "(default: ../shared/data/columbia-eyes; without it, the shipped models/appearance_gaze.json)");
+                       "(default: ../shared/data/columbia-eyes; without it, the shipped models/appearance_gaze.cbor)");
   columbia->add_flag("--known-head-pose", options->known_head_pose,
                      "Give the fitter the head's yaw from the file name (-P) instead of estimating it from one eye");
   AddCommonOptions(*columbia, options->common);

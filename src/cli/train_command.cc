@@ -1,5 +1,5 @@
 // `gazedirector train-appearance`: trains the appearance gaze prior on labelled
-// Columbia crops and writes it, as models/appearance_gaze.json was made.
+// Columbia crops and writes it, as models/appearance_gaze.cbor was made.
 #include <memory>
 
 #include <spdlog/spdlog.h>
@@ -16,7 +16,7 @@ struct TrainOptions {
   CommonOptions common;
   std::string dir;
   std::string output;
-  double ridge = 10.0;
+  double ridge = 0.1;
 };
 
 int RunTrainAppearance(const TrainOptions& options) {
@@ -42,8 +42,8 @@ Command RegisterTrainCommand(CLI::App& root) {
       "train-appearance",
       "Train the appearance gaze prior of eye-patch fits on labelled Columbia crops (pitch on all head poses, yaw on frontal ones)");
   app->add_option("dir", options->dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
-  app->add_option("-o,--output", options->output, "Write the model here (JSON), e.g. models/appearance_gaze.json")->required();
-  app->add_option("--ridge", options->ridge, "Penalty on the squared weights of the standardised pixels")
+  app->add_option("-o,--output", options->output, "Write the model here (CBOR), e.g. models/appearance_gaze.cbor")->required();
+  app->add_option("--ridge", options->ridge, "Ridge penalty of the kernel regressions (added to the kernel's diagonal)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   AddCommonOptions(*app, options->common);

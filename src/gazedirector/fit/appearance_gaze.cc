@@ -1,6 +1,8 @@
 #include "gazedirector/fit/appearance_gaze.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <limits>
 
@@ -76,25 +78,29 @@ Eigen::VectorXd Gradients(const cv::Mat& grey) {
   return Eigen::Map<const Eigen::VectorXf>(histogram.data(), size).cast<double>();
 }
 
-Eigen::VectorXd CropRow(const cv::Mat& grey, int eye) {
-  Eigen::VectorXd row(AppearanceGaze::NumCropFeatures() + 1);
-  row << BandPixels(grey), Gradients(grey), MirroredYawSign(eye), 1.0;
-  return row;
+Eigen::VectorXd FeaturesOf(const cv::Mat& grey, int eye) {
+  Eigen::VectorXd features(AppearanceGaze::NumCropFeatures());
+  features << BandPixels(grey), Gradients(grey), MirroredYawSign(eye);
+  return features;
 }
 
-// The whole crop's features, then the same scaled by the head's yaw in the
-// mirrored frame (t, 1 at kTurnScaleDeg), then t and t², the eye's side and the
-// intercept: the last four are not penalised (kTurnedOffsets).
-Eigen::VectorXd TurnedRow(const Eigen::VectorXd& crop, int eye, double head_yaw) {
-  const Eigen::Index n = crop.size() - 2;
-  const double t = MirroredYawSign(eye) * head_yaw / kTurnScaleDeg;
-  Eigen::VectorXd row(2 * n + 4);
-  row << crop.head(n), t * crop.head(n), t, t * t, crop.tail(2);
-  return row;
-}
-constexpr int kOffsets = 2, kTurnedOffsets = 4;
+// The head's yaw in the mirrored frame over kTurnScaleDeg, as the camera
+// yaw's kernel weighs it against each exemplar's.
+double TurnOf(int eye, double head_yaw) { return MirroredYawSign(eye) * head_yaw / kTurnScaleDeg; }
+// In the kernel's units (the standardised features): how far apart the two
+// eyes' sides are, and a head turn of kTurnScaleDeg.
+constexpr double kSideWeight = 3.0, kTurnWeight = 10.0;
 
 std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+Eigen::VectorXd ToEigen(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()); }
+
+// The exemplars as little-endian floats, row after row.
+nlohmann::json::binary_t ToBytes(const Eigen::MatrixXf& exemplars) {
+  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = exemplars;
+  const auto* bytes = reinterpret_cast<const std::uint8_t*>(rows.data());
+  return nlohmann::json::binary_t(std::vector<std::uint8_t>(bytes, bytes + rows.size() * sizeof(float)));
+}
 
 }  // namespace
 
@@ -104,8 +110,6 @@ int AppearanceGaze::NumCropFeatures() {
   return kBandPixels + static_cast<int>(Hog().getDescriptorSize()) + 1;
 }
 
-int AppearanceGaze::NumTurnedFeatures() { return 2 * (NumCropFeatures() - 1) + 3; }
-
 Eigen::VectorXd AppearanceGaze::BandFeatures(const cv::Mat& crop, int eye) {
   Eigen::VectorXd features(NumBandFeatures());
   features << BandPixels(MirroredGrey(crop, eye)), MirroredYawSign(eye);
@@ -113,97 +117,155 @@ Eigen::VectorXd AppearanceGaze::BandFeatures(const cv::Mat& crop, int eye) {
 }
 
 Eigen::VectorXd AppearanceGaze::CropFeatures(const cv::Mat& crop, int eye) {
-  return CropRow(MirroredGrey(crop, eye), eye).head(NumCropFeatures());
+  return FeaturesOf(MirroredGrey(crop, eye), eye);
 }
 
 double AppearanceGaze::ReadHeadYaw(const cv::Mat& crop, int eye) const {
-  return HeadYawOf(CropRow(MirroredGrey(crop, eye), eye), eye);
+  return HeadYawOf(SquaredDistances(CropFeatures(crop, eye), eye), eye);
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head_yaw) const {
-  return ReadTurnedBy(CropRow(MirroredGrey(crop, eye), eye), eye, head_yaw, head_yaw);
+  return ReadTurnedBy(SquaredDistances(CropFeatures(crop, eye), eye), eye, head_yaw, head_yaw);
 }
 
 AppearanceReading AppearanceGaze::ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const {
-  return ReadTurnedBy(CropRow(MirroredGrey(crop, eye), eye), eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
+  return ReadTurnedBy(SquaredDistances(CropFeatures(crop, eye), eye), eye, read_head_yaw,
+                      read_head_yaw / head_yaw_slope_);
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye) const {
-  const Eigen::VectorXd row = CropRow(MirroredGrey(crop, eye), eye);
-  const double read_head_yaw = HeadYawOf(row, eye);
-  return ReadTurnedBy(row, eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
+  const Eigen::VectorXd squared_distances = SquaredDistances(CropFeatures(crop, eye), eye);
+  const double read_head_yaw = HeadYawOf(squared_distances, eye);
+  return ReadTurnedBy(squared_distances, eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
 }
 
-double AppearanceGaze::HeadYawOf(const Eigen::VectorXd& row, int eye) const {
-  return MirroredYawSign(eye) * head_yaw_.dot(row);
+Eigen::VectorXd AppearanceGaze::SquaredDistances(const Eigen::VectorXd& features, int eye) const {
+  const Eigen::Index n = feature_mean_.size();
+  Eigen::VectorXf standardised(n + 1);
+  standardised.head(n) = ((features.head(n) - feature_mean_).array() / feature_scale_.array()).cast<float>();
+  standardised[n] = static_cast<float>(kSideWeight * MirroredYawSign(eye));
+  return (exemplars_.rowwise() - standardised.transpose()).rowwise().squaredNorm().cast<double>();
 }
 
-AppearanceReading AppearanceGaze::ReadTurnedBy(const Eigen::VectorXd& row, int eye, double head_yaw,
+Eigen::VectorXd AppearanceGaze::Kernel(const Eigen::VectorXd& squared_distances) const {
+  return (-squared_distances.array() / kernel_width_).exp().matrix();
+}
+
+Eigen::VectorXd AppearanceGaze::TurnedKernel(const Eigen::VectorXd& squared_distances, int eye,
+                                             double head_yaw) const {
+  const Eigen::ArrayXd turns = kTurnWeight * (exemplar_turns_.array() - TurnOf(eye, head_yaw));
+  return Kernel(squared_distances + turns.square().matrix());
+}
+
+double AppearanceGaze::Evaluate(const Regression& regression, const Eigen::VectorXd& kernel) const {
+  return regression.offset + regression.weights.dot(kernel);
+}
+
+double AppearanceGaze::HeadYawOf(const Eigen::VectorXd& squared_distances, int eye) const {
+  return MirroredYawSign(eye) * Evaluate(head_yaw_, Kernel(squared_distances));
+}
+
+AppearanceReading AppearanceGaze::ReadTurnedBy(const Eigen::VectorXd& squared_distances, int eye, double head_yaw,
                                                double turn) const {
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
+  const Eigen::VectorXd kernel = Kernel(squared_distances);
   AppearanceReading reading;
-  reading.pitch = pitch_.dot(row);
-  const double camera_yaw = MirroredYawSign(eye) * camera_yaw_.dot(TurnedRow(row, eye, head_yaw));
+  reading.pitch = Evaluate(pitch_, kernel);
+  const double camera_yaw =
+      MirroredYawSign(eye) * Evaluate(camera_yaw_, TurnedKernel(squared_distances, eye, head_yaw));
   const double turned = EyeRegionModel::CameraGazeInHead(reading.pitch, camera_yaw, turn).y();
-  reading.yaw = frontal * MirroredYawSign(eye) * frontal_yaw_.dot(row) + (1 - frontal) * turned;
+  reading.yaw = frontal * MirroredYawSign(eye) * Evaluate(frontal_yaw_, kernel) + (1 - frontal) * turned;
   reading.head_yaw = head_yaw;
   reading.frontal = frontal;
   return reading;
 }
 
-nlohmann::json AppearanceGaze::ToJson() const {
-  return {{"format", kFormat},
-          {"grid", kGrid},
-          {"band", {kFirstRow, kLastRow, kFirstColumn, kLastColumn}},
-          {"hog_size", kHogSize},
-          {"frontal_width_deg", kFrontalWidthDeg},
-          {"ridge", ridge_},
-          {"head_yaw_slope", head_yaw_slope_},
-          {"samples",
-           {{"pitch", samples_.pitch},
-            {"frontal_yaw", samples_.frontal_yaw},
-            {"camera_yaw", samples_.camera_yaw},
-            {"head_yaw", samples_.head_yaw}}},
-          {"subjects", subjects_},
-          {"weights",
-           {{"pitch", ToVector(pitch_)},
-            {"frontal_mirrored_yaw", ToVector(frontal_yaw_)},
-            {"mirrored_camera_yaw", ToVector(camera_yaw_)},
-            {"mirrored_head_yaw", ToVector(head_yaw_)}}}};
+void AppearanceGaze::Save(const fs::path& path) const {
+  auto regression = [](const Regression& r) {
+    return nlohmann::json{{"offset", r.offset}, {"weights", ToVector(r.weights)}};
+  };
+  const nlohmann::json json = {
+      {"format", kFormat},
+      {"grid", kGrid},
+      {"band", {kFirstRow, kLastRow, kFirstColumn, kLastColumn}},
+      {"hog_size", kHogSize},
+      {"frontal_width_deg", kFrontalWidthDeg},
+      {"side_weight", kSideWeight},
+      {"turn_weight", kTurnWeight},
+      {"ridge", ridge_},
+      {"kernel_width", kernel_width_},
+      {"head_yaw_slope", head_yaw_slope_},
+      {"samples",
+       {{"pitch", samples_.pitch},
+        {"frontal_yaw", samples_.frontal_yaw},
+        {"camera_yaw", samples_.camera_yaw},
+        {"head_yaw", samples_.head_yaw}}},
+      {"subjects", subjects_},
+      {"feature_mean", ToVector(feature_mean_)},
+      {"feature_scale", ToVector(feature_scale_)},
+      {"exemplar_count", exemplars_.rows()},
+      {"exemplars", ToBytes(exemplars_)},
+      {"exemplar_turns", ToVector(exemplar_turns_)},
+      {"regressions",
+       {{"pitch", regression(pitch_)},
+        {"frontal_mirrored_yaw", regression(frontal_yaw_)},
+        {"mirrored_camera_yaw", regression(camera_yaw_)},
+        {"mirrored_head_yaw", regression(head_yaw_)}}}};
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(json);
+  WriteTextFile(path, std::string(bytes.begin(), bytes.end()));
 }
 
 AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
-  std::ifstream stream(path);
+  std::ifstream stream(path, std::ios::binary);
   if (!stream) {
     Fail(ExitCode::kAssets, "{}: cannot read the appearance gaze model (the repository's models/ folder holds it)",
          path.string());
   }
   AppearanceGaze model;
   try {
-    const nlohmann::json json = nlohmann::json::parse(stream);
-    if (json.at("format") != kFormat || json.at("grid") != kGrid ||
+    const nlohmann::json json = nlohmann::json::from_cbor(stream);
+    if (!json.is_object() || json.value("format", "") != kFormat || json.at("grid") != kGrid ||
         json.at("band") != nlohmann::json({kFirstRow, kLastRow, kFirstColumn, kLastColumn}) ||
-        json.at("hog_size") != kHogSize || json.at("frontal_width_deg") != kFrontalWidthDeg) {
+        json.at("hog_size") != kHogSize || json.at("frontal_width_deg") != kFrontalWidthDeg ||
+        json.at("side_weight") != kSideWeight || json.at("turn_weight") != kTurnWeight) {
       Fail(ExitCode::kAssets, "{}: not a {} model", path.string(), kFormat);
     }
-    const nlohmann::json& weights = json.at("weights");
-    auto load = [&](const char* key, int features) {
-      const std::vector<double> values = weights.at(key).get<std::vector<double>>();
-      if (static_cast<int>(values.size()) != features + 1) {
-        Fail(ExitCode::kAssets, "{}: {} {} weights where {} were expected", path.string(), values.size(), key,
-             features + 1);
+    const int features = NumCropFeatures() - 1;
+    const Eigen::Index count = json.at("exemplar_count").get<Eigen::Index>();
+    const std::vector<std::uint8_t>& bytes = json.at("exemplars").get_binary();
+    if (count <= 0 || bytes.size() != static_cast<size_t>(count) * (features + 1) * sizeof(float)) {
+      Fail(ExitCode::kAssets, "{}: {} bytes of exemplars where {} of {} features were expected", path.string(),
+           bytes.size(), count, features + 1);
+    }
+    model.exemplars_ = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        reinterpret_cast<const float*>(bytes.data()), count, features + 1);
+    auto load = [&](const nlohmann::json& values, Eigen::Index size, const char* key) {
+      const Eigen::VectorXd loaded = ToEigen(values.get<std::vector<double>>());
+      if (loaded.size() != size) {
+        Fail(ExitCode::kAssets, "{}: {} {} values where {} were expected", path.string(), loaded.size(), key, size);
       }
-      const Eigen::VectorXd loaded = Eigen::Map<const Eigen::VectorXd>(values.data(), features + 1);
-      if (!loaded.allFinite()) Fail(ExitCode::kAssets, "{}: {} weights are not finite", path.string(), key);
+      if (!loaded.allFinite()) Fail(ExitCode::kAssets, "{}: {} values are not finite", path.string(), key);
       return loaded;
     };
-    model.pitch_ = load("pitch", NumCropFeatures());
-    model.frontal_yaw_ = load("frontal_mirrored_yaw", NumCropFeatures());
-    model.camera_yaw_ = load("mirrored_camera_yaw", NumTurnedFeatures());
-    model.head_yaw_ = load("mirrored_head_yaw", NumCropFeatures());
+    model.feature_mean_ = load(json.at("feature_mean"), features, "feature_mean");
+    model.feature_scale_ = load(json.at("feature_scale"), features, "feature_scale");
+    model.exemplar_turns_ = load(json.at("exemplar_turns"), count, "exemplar_turns");
+    const nlohmann::json& regressions = json.at("regressions");
+    auto regression = [&](const char* key) {
+      const nlohmann::json& r = regressions.at(key);
+      return Regression{load(r.at("weights"), count, key), r.at("offset").get<double>()};
+    };
+    model.pitch_ = regression("pitch");
+    model.frontal_yaw_ = regression("frontal_mirrored_yaw");
+    model.camera_yaw_ = regression("mirrored_camera_yaw");
+    model.head_yaw_ = regression("mirrored_head_yaw");
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
     model.ridge_ = json.at("ridge").get<double>();
+    model.kernel_width_ = json.at("kernel_width").get<double>();
     model.head_yaw_slope_ = json.at("head_yaw_slope").get<double>();
+    if (!(model.kernel_width_ > 0) || !(model.feature_scale_.array() > 0).all()) {
+      Fail(ExitCode::kAssets, "{}: its kernel width or feature scales are not positive", path.string());
+    }
     if (!(model.head_yaw_slope_ > 0.1 && model.head_yaw_slope_ < 10)) {
       Fail(ExitCode::kAssets, "{}: head_yaw_slope {} is not usable", path.string(), model.head_yaw_slope_);
     }
@@ -216,86 +278,76 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
   return model;
 }
 
-void AppearanceGaze::Save(const fs::path& path) const { WriteTextFile(path, ToJson().dump(1) + "\n"); }
-
 AppearanceGazeTrainer::AppearanceGazeTrainer(double ridge) : ridge_(ridge) {}
-
-void AppearanceGazeTrainer::Sums::Add(const Eigen::VectorXd& row, double label) {
-  if (std::isnan(label)) return;
-  if (samples == 0) {
-    normal.setZero(row.size(), row.size());
-    rhs.setZero(row.size());
-  }
-  normal.selfadjointView<Eigen::Lower>().rankUpdate(row);
-  rhs += label * row;
-  label_squares += label * label;
-  ++samples;
-}
 
 void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop, int eye,
                                 const AppearanceLabel& label) {
-  const Eigen::VectorXd whole = CropRow(MirroredGrey(crop, eye), eye);
   const double sign = MirroredYawSign(eye);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  SubjectSums& sums = by_subject_[subject];
-  sums.pitch.Add(whole, label.pitch);
-  sums.frontal_yaw.Add(whole, label.head_yaw == 0 ? sign * label.yaw : nan);
+  Sample sample;
+  sample.features = AppearanceGaze::CropFeatures(crop, eye);
+  sample.eye = eye;
+  sample.pitch = label.pitch;
+  sample.frontal_yaw = label.head_yaw == 0 ? sign * label.yaw : nan;
   // Relative to the camera: the gaze relative to the head turned back by the head's yaw.
   const double pitch = std::isnan(label.pitch) ? 0.0 : label.pitch;
-  const double camera_yaw = std::isnan(label.yaw) || std::isnan(label.head_yaw)
-                                ? nan
-                                : EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y();
-  sums.camera_yaw.Add(TurnedRow(whole, eye, label.head_yaw), sign * camera_yaw);
-  sums.head_yaw.Add(whole, sign * label.head_yaw);
+  sample.camera_yaw = std::isnan(label.yaw) || std::isnan(label.head_yaw)
+                          ? nan
+                          : sign * EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y();
+  sample.head_yaw = sign * label.head_yaw;
+  by_subject_[subject].push_back(std::move(sample));
 }
 
-AppearanceGazeTrainer::Sums AppearanceGazeTrainer::Total(const std::string& left_out,
-                                                         Sums SubjectSums::*angle) const {
-  Sums total;
-  for (const auto& [subject, sums] : by_subject_) {
-    const Sums& these = sums.*angle;
-    if (subject == left_out || these.samples == 0) continue;
-    if (total.samples == 0) {
-      total = these;
-    } else {
-      total.normal += these.normal;
-      total.rhs += these.rhs;
-      total.label_squares += these.label_squares;
-      total.samples += these.samples;
-    }
+namespace {
+
+// Twice the median squared distance between (at most about 800) exemplars:
+// the kernel's width, so that a typical pair of crops weighs exp(-1/2).
+double KernelWidth(const Eigen::MatrixXd& squared_distances) {
+  const Eigen::Index n = squared_distances.rows();
+  const Eigen::Index step = std::max<Eigen::Index>(1, n / 800);
+  std::vector<double> pairs;
+  for (Eigen::Index i = 0; i < n; i += step) {
+    for (Eigen::Index j = 0; j < i; j += step) pairs.push_back(squared_distances(i, j));
   }
-  return total;
+  if (pairs.empty()) return 1.0;
+  std::nth_element(pairs.begin(), pairs.begin() + pairs.size() / 2, pairs.end());
+  return std::max(2.0 * pairs[pairs.size() / 2], 1e-9);
 }
 
-Eigen::VectorXd AppearanceGazeTrainer::SolveRidge(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs,
-                                                  int offsets) const {
-  // The last `offsets` features (the intercept, the eye's side and, turned,
-  // t and t²) are not penalised: they carry offsets.
-  normal.diagonal().head(normal.rows() - offsets).array() += ridge_;
-  return normal.selfadjointView<Eigen::Lower>().ldlt().solve(rhs);
-}
+}  // namespace
 
-Eigen::VectorXd AppearanceGazeTrainer::SolveOne(const std::string& left_out, Sums SubjectSums::*angle, int offsets,
-                                                const char* name, int& samples) const {
-  const Sums total = Total(left_out, angle);
-  samples = total.samples;
-  if (samples == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
-  return SolveRidge(total.normal, total.rhs, offsets);
-}
-
-double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
-  // Each training subject read by a regression trained without them and
-  // without `left_out`: the sums of everyone but `left_out`, less the
-  // subject's own. The sum over the subject's crops of reading times label
-  // is the weights times the subject's Xᵀy, so no crop is kept.
-  const Sums rest = Total(left_out, &SubjectSums::head_yaw);
+// Each training subject read by the head-yaw regression trained without them
+// (the offset held), the least-squares slope of reading on label through 0.
+// For a kernel ridge regression with A = K + ridge I and weights A⁻¹y, the
+// subject's rows g read y_g - [(A⁻¹)_gg]⁻¹ (A⁻¹y)_g without their own crops,
+// so one factor serves every subject: (A⁻¹)_gg is XᵀX for the columns g of
+// L⁻¹, and since the rows of a subject are contiguous, those columns are
+// zero above the subject's first row.
+double AppearanceGazeTrainer::HeadYawSlope(const Eigen::LLT<Eigen::MatrixXd>& factor,
+                                           const std::vector<Eigen::Index>& rows,
+                                           const std::vector<const Sample*>& samples,
+                                           const std::vector<int>& subject_of,
+                                           const AppearanceGaze::Regression& head) {
+  const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
+  const Eigen::MatrixXd lower = factor.matrixL();
   double reading_times_label = 0, label_squares = 0;
-  for (const auto& [subject, sums] : by_subject_) {
-    const Sums& these = sums.head_yaw;
-    if (subject == left_out || these.samples == 0 || these.samples == rest.samples) continue;
-    const Eigen::VectorXd weights = SolveRidge(rest.normal - these.normal, rest.rhs - these.rhs, kOffsets);
-    reading_times_label += weights.dot(these.rhs);
-    label_squares += these.label_squares;
+  for (Eigen::Index first = 0; first < m;) {
+    Eigen::Index end = first;
+    while (end < m && subject_of[rows[end]] == subject_of[rows[first]]) ++end;
+    const Eigen::Index size = end - first;
+    if (size == m) break;  // one subject: nothing to leave out
+    Eigen::MatrixXd columns = Eigen::MatrixXd::Identity(m - first, size);
+    lower.bottomRightCorner(m - first, m - first).triangularView<Eigen::Lower>().solveInPlace(columns);
+    Eigen::VectorXd weights(size), labels(size);
+    for (Eigen::Index a = 0; a < size; ++a) {
+      weights[a] = head.weights[rows[first + a]];
+      labels[a] = samples[rows[first + a]]->head_yaw;
+    }
+    const Eigen::VectorXd residuals = (columns.transpose() * columns).llt().solve(weights);
+    const Eigen::VectorXd readings = labels - residuals;
+    reading_times_label += readings.dot(labels);
+    label_squares += labels.squaredNorm();
+    first = end;
   }
   // One subject, or heads that all face the camera: nothing to learn it from.
   if (label_squares <= 0 || reading_times_label <= 0) return 1.0;
@@ -303,23 +355,110 @@ double AppearanceGazeTrainer::HeadYawSlope(const std::string& left_out) const {
 }
 
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
+  std::vector<const Sample*> samples;
+  std::vector<int> subject_of;  // an index per training subject, in the samples' order
   AppearanceGaze model;
-  model.pitch_ = SolveOne(left_out, &SubjectSums::pitch, kOffsets, "pitch", model.samples_.pitch);
-  model.frontal_yaw_ = SolveOne(left_out, &SubjectSums::frontal_yaw, kOffsets, "yaw with the head facing the camera",
-                                model.samples_.frontal_yaw);
-  model.camera_yaw_ = SolveOne(left_out, &SubjectSums::camera_yaw, kTurnedOffsets, "yaw", model.samples_.camera_yaw);
-  model.head_yaw_ = SolveOne(left_out, &SubjectSums::head_yaw, kOffsets, "head yaw", model.samples_.head_yaw);
-  model.head_yaw_slope_ = HeadYawSlope(left_out);
-  for (const auto& [subject, sums] : by_subject_) {
-    if (subject != left_out) model.subjects_.push_back(subject);
+  for (const auto& [subject, these] : by_subject_) {
+    if (subject == left_out) continue;
+    for (const Sample& sample : these) {
+      samples.push_back(&sample);
+      subject_of.push_back(static_cast<int>(model.subjects_.size()));
+    }
+    model.subjects_.push_back(subject);
   }
+  const Eigen::Index n = static_cast<Eigen::Index>(samples.size());
+  if (n == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with pitch");
+  // The features standardised over the training crops, the eye's side weighed.
+  const Eigen::Index features = AppearanceGaze::NumCropFeatures() - 1;
+  Eigen::MatrixXd exemplars(n, features + 1);
+  for (Eigen::Index i = 0; i < n; ++i) exemplars.row(i) = samples[i]->features.transpose();
+  model.feature_mean_ = exemplars.leftCols(features).colwise().mean().transpose();
+  exemplars.leftCols(features).rowwise() -= model.feature_mean_.transpose();
+  model.feature_scale_ = (exemplars.leftCols(features).colwise().squaredNorm() / n).cwiseSqrt().transpose();
+  for (double& scale : model.feature_scale_) scale = scale > 1e-9 ? scale : 1.0;
+  exemplars.leftCols(features) = exemplars.leftCols(features) * model.feature_scale_.cwiseInverse().asDiagonal();
+  exemplars.col(features) *= kSideWeight;
+  model.exemplars_ = exemplars.cast<float>();
+  // Distances as the reading computes them, from the float exemplars.
+  const Eigen::MatrixXd stored = model.exemplars_.cast<double>();
+  const Eigen::VectorXd norms = stored.rowwise().squaredNorm();
+  Eigen::MatrixXd squared = -2.0 * stored * stored.transpose();
+  squared.colwise() += norms;
+  squared.rowwise() += norms.transpose();
+  squared = squared.cwiseMax(0.0);
+  model.kernel_width_ = KernelWidth(squared);
+  model.exemplar_turns_.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double head_yaw = samples[i]->head_yaw;
+    model.exemplar_turns_[i] = std::isnan(head_yaw) ? 0.0 : head_yaw / kTurnScaleDeg;  // already mirrored
+  }
+
+  // The kernel between some exemplars (with the head turns' term for the
+  // camera yaw), the ridge on its diagonal.
+  auto KernelMatrix = [&](const std::vector<Eigen::Index>& rows, bool turned) {
+    const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
+    Eigen::MatrixXd kernel(m, m);
+    for (Eigen::Index b = 0; b < m; ++b) {
+      for (Eigen::Index a = 0; a < m; ++a) {
+        const Eigen::Index i = rows[a], j = rows[b];
+        double distance = squared(i, j);
+        if (turned) distance += std::pow(kTurnWeight * (model.exemplar_turns_[i] - model.exemplar_turns_[j]), 2);
+        kernel(a, b) = std::exp(-distance / model.kernel_width_);
+      }
+    }
+    kernel.diagonal().array() += ridge_;
+    return kernel;
+  };
+  // One regression: the exemplars whose label is known, ridge on the weights.
+  struct Solved {
+    AppearanceGaze::Regression regression;
+    int samples = 0;
+    Eigen::LLT<Eigen::MatrixXd> factor;
+    std::vector<Eigen::Index> rows;
+  };
+  // `same`: a regression on the same kernel, whose factor serves when it
+  // learned from the same exemplars.
+  auto solve = [&](double Sample::*label, bool turned, const char* name, const Solved* same = nullptr) {
+    Solved solved;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!std::isnan(samples[i]->*label)) solved.rows.push_back(i);
+    }
+    const Eigen::Index m = static_cast<Eigen::Index>(solved.rows.size());
+    solved.samples = static_cast<int>(m);
+    if (m == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
+    Eigen::VectorXd labels(m);
+    for (Eigen::Index a = 0; a < m; ++a) labels[a] = samples[solved.rows[a]]->*label;
+    solved.regression.offset = labels.mean();
+    solved.regression.weights.setZero(n);
+    if (same != nullptr && same->rows == solved.rows) {
+      solved.factor = same->factor;
+    } else {
+      solved.factor.compute(KernelMatrix(solved.rows, turned));
+    }
+    const Eigen::VectorXd weights = solved.factor.solve((labels.array() - solved.regression.offset).matrix());
+    for (Eigen::Index a = 0; a < m; ++a) solved.regression.weights[solved.rows[a]] = weights[a];
+    return solved;
+  };
+  const Solved pitch = solve(&Sample::pitch, false, "pitch");
+  model.pitch_ = pitch.regression;
+  model.samples_.pitch = pitch.samples;
+  const Solved frontal = solve(&Sample::frontal_yaw, false, "yaw with the head facing the camera");
+  model.frontal_yaw_ = frontal.regression;
+  model.samples_.frontal_yaw = frontal.samples;
+  const Solved camera = solve(&Sample::camera_yaw, true, "yaw");
+  model.camera_yaw_ = camera.regression;
+  model.samples_.camera_yaw = camera.samples;
+  const Solved head = solve(&Sample::head_yaw, false, "head yaw", &pitch);
+  model.head_yaw_ = head.regression;
+  model.samples_.head_yaw = head.samples;
+  model.head_yaw_slope_ = HeadYawSlope(head.factor, head.rows, samples, subject_of, head.regression);
   model.ridge_ = ridge_;
   return model;
 }
 
 std::vector<std::string> AppearanceGazeTrainer::subjects() const {
   std::vector<std::string> names;
-  for (const auto& [subject, sums] : by_subject_) names.push_back(subject);
+  for (const auto& [subject, these] : by_subject_) names.push_back(subject);
   return names;
 }
 

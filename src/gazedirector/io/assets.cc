@@ -29,7 +29,7 @@ const char* GetEnv(const char* name) {
 fs::path DefaultAssetsDir() { return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / ".." / "shared" / "assets").lexically_normal(); }
 
 fs::path DefaultAppearanceModelPath() {
-  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_gaze.json").lexically_normal();
+  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_gaze.cbor").lexically_normal();
 }
 
 fs::path DefaultDataDir() {
