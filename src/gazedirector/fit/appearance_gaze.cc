@@ -395,7 +395,7 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
 
   // The kernel between some exemplars (with the head turns' term for the
   // camera yaw), the ridge on its diagonal.
-  auto KernelMatrix = [&](const std::vector<Eigen::Index>& rows, bool turned) {
+  auto kernel_matrix = [&](const std::vector<Eigen::Index>& rows, bool turned) {
     const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
     Eigen::MatrixXd kernel(m, m);
     for (Eigen::Index b = 0; b < m; ++b) {
@@ -433,7 +433,7 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
     if (same != nullptr && same->rows == solved.rows) {
       solved.factor = same->factor;
     } else {
-      solved.factor.compute(KernelMatrix(solved.rows, turned));
+      solved.factor.compute(kernel_matrix(solved.rows, turned));
     }
     const Eigen::VectorXd weights = solved.factor.solve((labels.array() - solved.regression.offset).matrix());
     for (Eigen::Index a = 0; a < m; ++a) solved.regression.weights[solved.rows[a]] = weights[a];
