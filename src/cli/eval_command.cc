@@ -190,7 +190,7 @@ struct AppearanceModels {
 
 // The appearance gaze models for the crops' subjects. Trained here on the
 // training folder's crops (AddColumbiaCrops), each subject's own left out;
-// without that folder, the shipped model, which must not have seen them.
+// without that folder, the model the build trained, which must not have seen them.
 AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vector<ColumbiaCrop>& crops) {
   std::vector<std::string> subjects;
   for (const ColumbiaCrop& crop : crops) {
@@ -522,7 +522,7 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_option("--appearance-training", options->appearance_training,
                        "Labelled crops to train the appearance gaze prior on, each evaluated subject left out "
-                       "(default: ../shared/data/columbia-eyes; without it, the shipped models/appearance_gaze.cbor)");
+                       "(default: ../shared/data/columbia-eyes; without it, the model the build trained, build/release/models/appearance_gaze.cbor)");
   columbia->add_flag("--known-head-pose", options->known_head_pose,
                      "Give the fitter the head's yaw from the file name (-P) instead of estimating it from one eye");
   AddCommonOptions(*columbia, options->common);

@@ -1,5 +1,5 @@
 // `gazedirector train-appearance`: trains the appearance gaze prior on labelled
-// Columbia crops and writes it, as models/appearance_gaze.cbor was made.
+// Columbia crops and writes it, as the build makes build/release/models/appearance_gaze.cbor.
 #include <memory>
 
 #include <spdlog/spdlog.h>
@@ -42,7 +42,7 @@ Command RegisterTrainCommand(CLI::App& root) {
       "train-appearance",
       "Train the appearance gaze prior of eye-patch fits on labelled Columbia crops (pitch on all head poses, yaw on frontal ones)");
   app->add_option("dir", options->dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
-  app->add_option("-o,--output", options->output, "Write the model here (CBOR), e.g. models/appearance_gaze.cbor")->required();
+  app->add_option("-o,--output", options->output, "Write the model here (CBOR)")->required();
   app->add_option("--ridge", options->ridge, "Ridge penalty of the kernel regressions (added to the kernel's diagonal)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

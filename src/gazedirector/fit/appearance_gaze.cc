@@ -218,7 +218,7 @@ void AppearanceGaze::Save(const fs::path& path) const {
 AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
   std::ifstream stream(path, std::ios::binary);
   if (!stream) {
-    Fail(ExitCode::kAssets, "{}: cannot read the appearance gaze model (the repository's models/ folder holds it)",
+    Fail(ExitCode::kAssets, "{}: cannot read the appearance gaze model (the build trains it: cmake --build --preset release)",
          path.string());
   }
   AppearanceGaze model;

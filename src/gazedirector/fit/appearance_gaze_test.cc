@@ -251,24 +251,24 @@ TEST(AppearanceGazeTest, BadModelsAndEmptyTrainingFailClearly) {
   EXPECT_EQ(code_of([&] { AppearanceGaze::CropFeatures(cv::Mat(64, 64, CV_16UC1), kLeftEye); }), ExitCode::kBadInput);
 }
 
-// The shipped model is what `gazedirector train-appearance` makes of every crop in
+// The model the build trains is what `gazedirector train-appearance` makes of every crop in
 // ../shared/data/columbia-eyes: retrained here, it reads alike.
-TEST(AppearanceGazeTest, TheShippedModelIsTheOneTheDataMake) {
-  const AppearanceGaze shipped = AppearanceGaze::Load(DefaultAppearanceModelPath());
-  AppearanceGazeTrainer trainer(shipped.ridge());
+TEST(AppearanceGazeTest, TheBuiltModelIsTheOneTheDataMake) {
+  const AppearanceGaze built = AppearanceGaze::Load(DefaultAppearanceModelPath());
+  AppearanceGazeTrainer trainer(built.ridge());
   AddColumbiaCrops(ListColumbia(testing::DataPath("columbia-eyes")), trainer);
   const AppearanceGaze retrained = trainer.Solve();
-  EXPECT_EQ(retrained.subjects(), shipped.subjects());
-  EXPECT_EQ(retrained.samples(), shipped.samples());
-  EXPECT_NEAR(retrained.head_yaw_slope(), shipped.head_yaw_slope(), 1e-9);
+  EXPECT_EQ(retrained.subjects(), built.subjects());
+  EXPECT_EQ(retrained.samples(), built.samples());
+  EXPECT_NEAR(retrained.head_yaw_slope(), built.head_yaw_slope(), 1e-9);
   for (const ColumbiaCrop& crop : FrontalCrops()) {
     if (crop.vertical != 10 || crop.horizontal != 0) continue;
     const cv::Mat image = cv::imread(crop.path.string());
-    const AppearanceReading from_shipped = shipped.Read(image, crop.ModelEye());
+    const AppearanceReading from_built = built.Read(image, crop.ModelEye());
     const AppearanceReading from_retrained = retrained.Read(image, crop.ModelEye());
-    EXPECT_NEAR(from_shipped.pitch, from_retrained.pitch, 1e-6) << crop.path;
-    EXPECT_NEAR(from_shipped.yaw, from_retrained.yaw, 1e-6) << crop.path;
-    EXPECT_NEAR(from_shipped.head_yaw, from_retrained.head_yaw, 1e-6) << crop.path;
+    EXPECT_NEAR(from_built.pitch, from_retrained.pitch, 1e-6) << crop.path;
+    EXPECT_NEAR(from_built.yaw, from_retrained.yaw, 1e-6) << crop.path;
+    EXPECT_NEAR(from_built.head_yaw, from_retrained.head_yaw, 1e-6) << crop.path;
   }
 }
 

@@ -5,8 +5,8 @@
 
 #include "gazedirector/util/error.h"
 
-#ifndef GAZEDIRECTOR_SOURCE_DIR
-#error "GAZEDIRECTOR_SOURCE_DIR must be defined by the build"
+#if !defined(GAZEDIRECTOR_SOURCE_DIR) || !defined(GAZEDIRECTOR_BINARY_DIR)
+#error "GAZEDIRECTOR_SOURCE_DIR and GAZEDIRECTOR_BINARY_DIR must be defined by the build"
 #endif
 
 namespace gazedirector {
@@ -29,7 +29,7 @@ const char* GetEnv(const char* name) {
 fs::path DefaultAssetsDir() { return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / ".." / "shared" / "assets").lexically_normal(); }
 
 fs::path DefaultAppearanceModelPath() {
-  return (fs::path(GAZEDIRECTOR_SOURCE_DIR) / "models" / "appearance_gaze.cbor").lexically_normal();
+  return (fs::path(GAZEDIRECTOR_BINARY_DIR) / "models" / "appearance_gaze.cbor").lexically_normal();
 }
 
 fs::path DefaultDataDir() {

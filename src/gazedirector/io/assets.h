@@ -32,8 +32,8 @@ class Assets {
 // data), fixed at build time; GAZEDIRECTOR_DATA overrides the latter.
 std::filesystem::path DefaultAssetsDir();
 std::filesystem::path DefaultDataDir();
-// The shipped appearance gaze prior (AppearanceGaze), trained by
-// `gazedirector train-appearance` on every Columbia crop: models/ in the repository.
+// The appearance gaze prior (AppearanceGaze) that the build trains with
+// `gazedirector train-appearance` on every Columbia crop: models/ in the build tree.
 std::filesystem::path DefaultAppearanceModelPath();
 
 }  // namespace gazedirector
