@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <memory>
 
 #include <Eigen/Cholesky>
 #include <opencv2/imgproc.hpp>
@@ -78,12 +79,6 @@ Eigen::VectorXd Gradients(const cv::Mat& grey) {
   return Eigen::Map<const Eigen::VectorXf>(histogram.data(), size).cast<double>();
 }
 
-Eigen::VectorXd FeaturesOf(const cv::Mat& grey, int eye) {
-  Eigen::VectorXd features(AppearanceGaze::NumCropFeatures());
-  features << BandPixels(grey), Gradients(grey), MirroredYawSign(eye);
-  return features;
-}
-
 // The head's yaw in the mirrored frame over kTurnScaleDeg, as the camera
 // yaw's kernel weighs it against each exemplar's.
 double TurnOf(int eye, double head_yaw) { return MirroredYawSign(eye) * head_yaw / kTurnScaleDeg; }
@@ -117,7 +112,10 @@ Eigen::VectorXd AppearanceGaze::BandFeatures(const cv::Mat& crop, int eye) {
 }
 
 Eigen::VectorXd AppearanceGaze::CropFeatures(const cv::Mat& crop, int eye) {
-  return FeaturesOf(MirroredGrey(crop, eye), eye);
+  const cv::Mat grey = MirroredGrey(crop, eye);
+  Eigen::VectorXd features(NumCropFeatures());
+  features << BandPixels(grey), Gradients(grey), MirroredYawSign(eye);
+  return features;
 }
 
 double AppearanceGaze::ReadHeadYaw(const cv::Mat& crop, int eye) const {
@@ -286,7 +284,6 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
   const double nan = std::numeric_limits<double>::quiet_NaN();
   Sample sample;
   sample.features = AppearanceGaze::CropFeatures(crop, eye);
-  sample.eye = eye;
   sample.pitch = label.pitch;
   sample.frontal_yaw = label.head_yaw == 0 ? sign * label.yaw : nan;
   // Relative to the camera: the gaze relative to the head turned back by the head's yaw.
@@ -329,7 +326,7 @@ double AppearanceGazeTrainer::HeadYawSlope(const Eigen::LLT<Eigen::MatrixXd>& fa
                                            const std::vector<int>& subject_of,
                                            const AppearanceGaze::Regression& head) {
   const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
-  const Eigen::MatrixXd lower = factor.matrixL();
+  const Eigen::MatrixXd& lower = factor.matrixLLT();  // L in its lower triangle
   double reading_times_label = 0, label_squares = 0;
   for (Eigen::Index first = 0; first < m;) {
     Eigen::Index end = first;
@@ -413,7 +410,7 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   struct Solved {
     AppearanceGaze::Regression regression;
     int samples = 0;
-    Eigen::LLT<Eigen::MatrixXd> factor;
+    std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> factor;
     std::vector<Eigen::Index> rows;
   };
   // `same`: a regression on the same kernel, whose factor serves when it
@@ -433,9 +430,9 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
     if (same != nullptr && same->rows == solved.rows) {
       solved.factor = same->factor;
     } else {
-      solved.factor.compute(kernel_matrix(solved.rows, turned));
+      solved.factor = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(kernel_matrix(solved.rows, turned));
     }
-    const Eigen::VectorXd weights = solved.factor.solve((labels.array() - solved.regression.offset).matrix());
+    const Eigen::VectorXd weights = solved.factor->solve((labels.array() - solved.regression.offset).matrix());
     for (Eigen::Index a = 0; a < m; ++a) solved.regression.weights[solved.rows[a]] = weights[a];
     return solved;
   };
@@ -451,7 +448,7 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   const Solved head = solve(&Sample::head_yaw, false, "head yaw", &pitch);
   model.head_yaw_ = head.regression;
   model.samples_.head_yaw = head.samples;
-  model.head_yaw_slope_ = HeadYawSlope(head.factor, head.rows, samples, subject_of, head.regression);
+  model.head_yaw_slope_ = HeadYawSlope(*head.factor, head.rows, samples, subject_of, head.regression);
   model.ridge_ = ridge_;
   return model;
 }

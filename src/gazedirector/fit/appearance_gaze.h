@@ -181,7 +181,6 @@ class AppearanceGazeTrainer {
  private:
   struct Sample {
     Eigen::VectorXd features;  // CropFeatures
-    int eye = 0;
     // In the mirrored frame; NaN where unlabelled.
     double pitch, frontal_yaw, camera_yaw, head_yaw;
   };
