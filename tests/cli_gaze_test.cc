@@ -196,7 +196,7 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.cbor"), &output), 0) << output;
   std::ifstream stream(dir / "gaze.cbor", std::ios::binary);
   const nlohmann::json model = nlohmann::json::from_cbor(stream);
-  for (const char* angle : {"pitch", "frontal_yaw", "camera_yaw", "head_yaw"}) {
+  for (const char* angle : {"pitch", "frontal_yaw", "camera_yaw", "turned_yaw", "head_yaw"}) {
     EXPECT_EQ(model["samples"][angle].get<int>(), 84) << angle;  // all frontal
   }
   EXPECT_EQ(model["subjects"], nlohmann::json({"0013", "0014"}));
@@ -205,7 +205,8 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   // eye's side, as floats; each regression has a weight per exemplar.
   EXPECT_EQ(model["exemplar_count"].get<int>(), 84);
   EXPECT_EQ(model["exemplars"].get_binary().size(), 84u * 421 * sizeof(float));
-  for (const char* regression : {"pitch", "frontal_mirrored_yaw", "mirrored_camera_yaw", "mirrored_head_yaw"}) {
+  for (const char* regression :
+       {"pitch", "frontal_mirrored_yaw", "mirrored_camera_yaw", "mirrored_turned_yaw", "mirrored_head_yaw"}) {
     EXPECT_EQ(model["regressions"][regression]["weights"].size(), 84u) << regression;
     // With every head facing the camera the head turns' term has nothing to
     // tell apart; the weights are numbers, not NaN (a file that would not load).

@@ -23,7 +23,7 @@ namespace {
 constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
 constexpr int kBandPixels = kBandRows * kBandColumns;
-constexpr const char* kFormat = "gazedirector-appearance-gaze-6";
+constexpr const char* kFormat = "gazedirector-appearance-gaze-7";
 // The head yaw that scales the turned features: 1 at a 30-degree turn.
 constexpr double kTurnScaleDeg = 30.0;
 
@@ -123,18 +123,16 @@ double AppearanceGaze::ReadHeadYaw(const cv::Mat& crop, int eye) const {
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye, double head_yaw) const {
-  return ReadTurnedBy(SquaredDistances(CropFeatures(crop, eye), eye), eye, head_yaw, head_yaw);
+  return ReadAt(SquaredDistances(CropFeatures(crop, eye), eye), eye, head_yaw, HeadYaw::kGiven);
 }
 
 AppearanceReading AppearanceGaze::ReadGivenHeadReading(const cv::Mat& crop, int eye, double read_head_yaw) const {
-  return ReadTurnedBy(SquaredDistances(CropFeatures(crop, eye), eye), eye, read_head_yaw,
-                      read_head_yaw / head_yaw_slope_);
+  return ReadAt(SquaredDistances(CropFeatures(crop, eye), eye), eye, read_head_yaw, HeadYaw::kRead);
 }
 
 AppearanceReading AppearanceGaze::Read(const cv::Mat& crop, int eye) const {
   const Eigen::VectorXd squared_distances = SquaredDistances(CropFeatures(crop, eye), eye);
-  const double read_head_yaw = HeadYawOf(squared_distances, eye);
-  return ReadTurnedBy(squared_distances, eye, read_head_yaw, read_head_yaw / head_yaw_slope_);
+  return ReadAt(squared_distances, eye, HeadYawOf(squared_distances, eye), HeadYaw::kRead);
 }
 
 Eigen::VectorXd AppearanceGaze::SquaredDistances(const Eigen::VectorXd& features, int eye) const {
@@ -163,16 +161,23 @@ double AppearanceGaze::HeadYawOf(const Eigen::VectorXd& squared_distances, int e
   return MirroredYawSign(eye) * Evaluate(head_yaw_, Kernel(squared_distances));
 }
 
-AppearanceReading AppearanceGaze::ReadTurnedBy(const Eigen::VectorXd& squared_distances, int eye, double head_yaw,
-                                               double turn) const {
+AppearanceReading AppearanceGaze::ReadAt(const Eigen::VectorXd& squared_distances, int eye, double head_yaw,
+                                         HeadYaw head_yaw_is) const {
   const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
+  const double frontal_share = std::exp(-0.5 * std::pow(head_yaw / kFrontalYawWidthDeg, 2));
   const Eigen::VectorXd kernel = Kernel(squared_distances);
   AppearanceReading reading;
   reading.pitch = Evaluate(pitch_, kernel);
-  const double camera_yaw =
-      MirroredYawSign(eye) * Evaluate(camera_yaw_, TurnedKernel(squared_distances, eye, head_yaw));
-  const double turned = EyeRegionModel::CameraGazeInHead(reading.pitch, camera_yaw, turn).y();
-  reading.yaw = frontal * MirroredYawSign(eye) * Evaluate(frontal_yaw_, kernel) + (1 - frontal) * turned;
+  double turned;
+  if (head_yaw_is == HeadYaw::kGiven) {
+    const double camera_yaw =
+        MirroredYawSign(eye) * Evaluate(camera_yaw_, TurnedKernel(squared_distances, eye, head_yaw));
+    turned = EyeRegionModel::CameraGazeInHead(reading.pitch, camera_yaw, head_yaw).y();
+  } else {
+    const double turn = head_yaw / head_yaw_slope_;
+    turned = MirroredYawSign(eye) * Evaluate(turned_yaw_, TurnedKernel(squared_distances, eye, turn));
+  }
+  reading.yaw = frontal_share * MirroredYawSign(eye) * Evaluate(frontal_yaw_, kernel) + (1 - frontal_share) * turned;
   reading.head_yaw = head_yaw;
   reading.frontal = frontal;
   return reading;
@@ -188,6 +193,7 @@ void AppearanceGaze::Save(const fs::path& path) const {
       {"band", {kFirstRow, kLastRow, kFirstColumn, kLastColumn}},
       {"hog_size", kHogSize},
       {"frontal_width_deg", kFrontalWidthDeg},
+      {"frontal_yaw_width_deg", kFrontalYawWidthDeg},
       {"side_weight", kSideWeight},
       {"turn_weight", kTurnWeight},
       {"ridge", ridge_},
@@ -197,6 +203,7 @@ void AppearanceGaze::Save(const fs::path& path) const {
        {{"pitch", samples_.pitch},
         {"frontal_yaw", samples_.frontal_yaw},
         {"camera_yaw", samples_.camera_yaw},
+        {"turned_yaw", samples_.turned_yaw},
         {"head_yaw", samples_.head_yaw}}},
       {"subjects", subjects_},
       {"feature_mean", ToVector(feature_mean_)},
@@ -208,6 +215,7 @@ void AppearanceGaze::Save(const fs::path& path) const {
        {{"pitch", regression(pitch_)},
         {"frontal_mirrored_yaw", regression(frontal_yaw_)},
         {"mirrored_camera_yaw", regression(camera_yaw_)},
+        {"mirrored_turned_yaw", regression(turned_yaw_)},
         {"mirrored_head_yaw", regression(head_yaw_)}}}};
   const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(json);
   WriteTextFile(path, std::string(bytes.begin(), bytes.end()));
@@ -225,6 +233,7 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
     if (!json.is_object() || json.value("format", "") != kFormat || json.at("grid") != kGrid ||
         json.at("band") != nlohmann::json({kFirstRow, kLastRow, kFirstColumn, kLastColumn}) ||
         json.at("hog_size") != kHogSize || json.at("frontal_width_deg") != kFrontalWidthDeg ||
+        json.at("frontal_yaw_width_deg") != kFrontalYawWidthDeg ||
         json.at("side_weight") != kSideWeight || json.at("turn_weight") != kTurnWeight) {
       Fail(ExitCode::kAssets, "{}: not a {} model", path.string(), kFormat);
     }
@@ -256,6 +265,7 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
     model.pitch_ = regression("pitch");
     model.frontal_yaw_ = regression("frontal_mirrored_yaw");
     model.camera_yaw_ = regression("mirrored_camera_yaw");
+    model.turned_yaw_ = regression("mirrored_turned_yaw");
     model.head_yaw_ = regression("mirrored_head_yaw");
     model.subjects_ = json.at("subjects").get<std::vector<std::string>>();
     model.ridge_ = json.at("ridge").get<double>();
@@ -269,7 +279,8 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
     }
     const nlohmann::json& samples = json.at("samples");
     model.samples_ = {samples.at("pitch").get<int>(), samples.at("frontal_yaw").get<int>(),
-                      samples.at("camera_yaw").get<int>(), samples.at("head_yaw").get<int>()};
+                      samples.at("camera_yaw").get<int>(), samples.at("turned_yaw").get<int>(),
+                      samples.at("head_yaw").get<int>()};
   } catch (const nlohmann::json::exception& e) {
     Fail(ExitCode::kAssets, "{}: not a valid appearance gaze model ({})", path.string(), e.what());
   }
@@ -286,11 +297,12 @@ void AppearanceGazeTrainer::Add(const std::string& subject, const cv::Mat& crop,
   sample.features = AppearanceGaze::CropFeatures(crop, eye);
   sample.pitch = label.pitch;
   sample.frontal_yaw = label.head_yaw == 0 ? sign * label.yaw : nan;
-  // Relative to the camera: the gaze relative to the head turned back by the head's yaw.
+  // Both learned against the head's turn, so they need both labels. Relative
+  // to the camera: the gaze relative to the head turned back by the head's yaw.
   const double pitch = std::isnan(label.pitch) ? 0.0 : label.pitch;
-  sample.camera_yaw = std::isnan(label.yaw) || std::isnan(label.head_yaw)
-                          ? nan
-                          : sign * EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y();
+  const bool turn_known = !std::isnan(label.yaw) && !std::isnan(label.head_yaw);
+  sample.camera_yaw = turn_known ? sign * EyeRegionModel::CameraGazeInHead(pitch, label.yaw, -label.head_yaw).y() : nan;
+  sample.turned_yaw = turn_known ? sign * label.yaw : nan;
   sample.head_yaw = sign * label.head_yaw;
   by_subject_[subject].push_back(std::move(sample));
 }
@@ -391,7 +403,7 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   }
 
   // The kernel between some exemplars (with the head turns' term for the
-  // camera yaw), the ridge on its diagonal.
+  // camera and turned yaws), the ridge on its diagonal.
   auto kernel_matrix = [&](const std::vector<Eigen::Index>& rows, bool turned) {
     const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
     Eigen::MatrixXd kernel(m, m);
@@ -445,6 +457,9 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   const Solved camera = solve(&Sample::camera_yaw, true, "yaw");
   model.camera_yaw_ = camera.regression;
   model.samples_.camera_yaw = camera.samples;
+  const Solved turned = solve(&Sample::turned_yaw, true, "yaw", &camera);
+  model.turned_yaw_ = turned.regression;
+  model.samples_.turned_yaw = turned.samples;
   const Solved head = solve(&Sample::head_yaw, false, "head yaw", &pitch);
   model.head_yaw_ = head.regression;
   model.samples_.head_yaw = head.samples;
