@@ -24,7 +24,7 @@ constexpr int kFirstRow = 3, kLastRow = 10, kFirstColumn = 2, kLastColumn = 13;
 constexpr int kBandRows = kLastRow - kFirstRow + 1, kBandColumns = kLastColumn - kFirstColumn + 1;
 constexpr int kBandPixels = kBandRows * kBandColumns;
 constexpr const char* kFormat = "gazedirector-appearance-gaze-7";
-// The head yaw that scales the turned features: 1 at a 30-degree turn.
+// The head yaw that the turned kernel counts as a turn of 1.
 constexpr double kTurnScaleDeg = 30.0;
 
 // Yaws are learned in the mirrored frame, where both eyes turn alike.
@@ -79,9 +79,12 @@ Eigen::VectorXd Gradients(const cv::Mat& grey) {
   return Eigen::Map<const Eigen::VectorXf>(histogram.data(), size).cast<double>();
 }
 
-// The head's yaw in the mirrored frame over kTurnScaleDeg, as the camera
-// yaw's kernel weighs it against each exemplar's.
+// The head's yaw in the mirrored frame over kTurnScaleDeg, as the turned
+// kernel (of the camera and turned yaws) weighs it against each exemplar's.
 double TurnOf(int eye, double head_yaw) { return MirroredYawSign(eye) * head_yaw / kTurnScaleDeg; }
+
+// exp(-x² / 2w²): how frontal a head yaw x reads at width w.
+double Gaussian(double x, double width) { return std::exp(-0.5 * std::pow(x / width, 2)); }
 // In the kernel's units (the standardised features): how far apart the two
 // eyes' sides are, and a head turn of kTurnScaleDeg.
 constexpr double kSideWeight = 3.0, kTurnWeight = 10.0;
@@ -163,8 +166,8 @@ double AppearanceGaze::HeadYawOf(const Eigen::VectorXd& squared_distances, int e
 
 AppearanceReading AppearanceGaze::ReadAt(const Eigen::VectorXd& squared_distances, int eye, double head_yaw,
                                          HeadYaw head_yaw_is) const {
-  const double frontal = std::exp(-0.5 * std::pow(head_yaw / kFrontalWidthDeg, 2));
-  const double frontal_share = std::exp(-0.5 * std::pow(head_yaw / kFrontalYawWidthDeg, 2));
+  const double frontal = Gaussian(head_yaw, kFrontalWidthDeg);
+  const double frontal_share = Gaussian(head_yaw, kFrontalYawWidthDeg);
   const Eigen::VectorXd kernel = Kernel(squared_distances);
   AppearanceReading reading;
   reading.pitch = Evaluate(pitch_, kernel);
