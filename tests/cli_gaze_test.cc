@@ -154,6 +154,13 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   // The appearance gaze prior never saw the subject it reads.
   EXPECT_NE(result["appearance_prior"].get<std::string>().find("each evaluated subject left out"), std::string::npos);
   EXPECT_NEAR(result["subject_resampling"]["pitch_mean_p95_deg"].get<double>(), result["pitch_mean_deg"].get<double>(), 1e-3);
+  // The head's yaw was read from the crops: 0013's three frontal photos, read within 10 degrees of
+  // facing the camera, one person, so no spread between people.
+  const nlohmann::json& head = result["head_yaw_reading"]["0"];
+  EXPECT_EQ(head["photos"].get<int>(), 3);
+  EXPECT_EQ(head["subjects"].get<int>(), 1);
+  EXPECT_DOUBLE_EQ(head["subject_spread_deg"].get<double>(), 0);
+  EXPECT_LT(head["abs_error_mean_deg"].get<double>(), 10);
   std::ifstream csv(dir / "crops.csv");
   std::string line;
   std::getline(csv, line);  // header

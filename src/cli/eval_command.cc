@@ -246,6 +246,7 @@ int RunColumbiaEval(const EvalOptions& options) {
   const PoseSummaries by_photo_camera = SummariseByPose(photos, GazeFrame::kCamera);
   const auto by_subject = SummariseBy(photos, GazeFrame::kHead, [](const ColumbiaCrop& crop) { return crop.subject; });
   const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead);
+  const std::vector<HeadYawReadings> head_readings = SummariseHeadYawReadings(fits);
   const double fits_per_s = fits.size() / seconds;
 
   if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
@@ -296,6 +297,16 @@ int RunColumbiaEval(const EvalOptions& options) {
       entry["one_eye"] = ToJson(by_crop.by_pose.at(pose), "crops");
       entry["camera_frame"] = ToJson(by_photo_camera.by_pose.at(pose), "photos");
     }
+    for (const HeadYawReadings& h : head_readings) {
+      result["head_yaw_reading"][std::to_string(h.head_pose)] = {
+          {"photos", h.photos},
+          {"subjects", h.subjects},
+          {"mean_deg", RoundTo(h.mean_reading, 3)},
+          {"error_mean_deg", RoundTo(h.mean_error, 3)},
+          {"abs_error_mean_deg", RoundTo(h.mean_abs_error, 3)},
+          {"subject_spread_deg", RoundTo(h.subject_spread, 3)},
+          {"within_subject_deg", RoundTo(h.within_subject, 3)}};
+    }
     fmt::print("{}\n", result.dump());
     return 0;
   }
@@ -332,7 +343,19 @@ int RunColumbiaEval(const EvalOptions& options) {
                "{:.2f}-{:.2f}, pitch {:.2f}-{:.2f}\n",
                spread.subjects, spread.draws, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
   }
-  fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)" : "estimated from each crop");
+  if (!head_readings.empty()) {
+    fmt::print("the head's yaw read from a photo's crops (the reading its fits were given), by head pose; error: the\n"
+               "reading less -P; subjects' spread: the s.d. of the subjects' mean readings; within a subject: a photo's\n"
+               "mean distance from its subject's mean\n");
+    fmt::print("{:>10} {:>6} {:>8}   {:>9} {:>10} {:>12}   {:>16} {:>16}\n", "head pose", "photos", "subjects", "reading",
+               "mean error", "mean |error|", "subjects' spread", "within a subject");
+    for (const HeadYawReadings& h : head_readings) {
+      fmt::print("{:>10} {:>6} {:>8}   {:>9.2f} {:>10.2f} {:>12.2f}   {:>16.2f} {:>16.2f}\n", h.head_pose, h.photos,
+                 h.subjects, h.mean_reading, h.mean_error, h.mean_abs_error, h.subject_spread, h.within_subject);
+    }
+  }
+  fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)"
+                                                         : "estimated from the crops (the mean of a photo's two readings)");
   fmt::print("appearance gaze prior: {}\n", use_appearance ? appearance.source : "off");
   fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
   if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <random>
 #include <regex>
+#include <set>
 #include <thread>
 
 #include "gazedirector/fit/face_fit.h"
@@ -139,6 +140,44 @@ SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, Gaz
   result.yaw_low = Quantile(yaw_means, 0.05), result.yaw_high = Quantile(yaw_means, 0.95);
   result.pitch_low = Quantile(pitch_means, 0.05), result.pitch_high = Quantile(pitch_means, 0.95);
   return result;
+}
+
+std::vector<HeadYawReadings> SummariseHeadYawReadings(const std::vector<ColumbiaFit>& fits) {
+  // Head pose -> subject -> one reading per photo (both eyes carry the photo's).
+  std::map<int, std::map<std::string, std::vector<double>>> readings;
+  std::map<int, double> head_yaw_of_pose;
+  std::set<std::string> photos_seen;
+  for (const ColumbiaFit& fit : fits) {
+    if (std::isnan(fit.appearance.head_yaw) || !photos_seen.insert(fit.crop.Photo()).second) continue;
+    readings[fit.crop.head_pose][fit.crop.subject].push_back(fit.appearance.head_yaw);
+    head_yaw_of_pose[fit.crop.head_pose] = fit.crop.HeadYaw();
+  }
+  std::vector<HeadYawReadings> summaries;
+  for (const auto& [head_pose, by_subject] : readings) {
+    HeadYawReadings& summary = summaries.emplace_back();
+    summary.head_pose = head_pose;
+    summary.subjects = static_cast<int>(by_subject.size());
+    const double head_yaw = head_yaw_of_pose.at(head_pose);
+    std::vector<double> subject_means;
+    for (const auto& [subject, values] : by_subject) {
+      const double subject_mean = Mean(values);
+      subject_means.push_back(subject_mean);
+      for (const double reading : values) {
+        summary.mean_reading += reading;
+        summary.mean_error += reading - head_yaw;
+        summary.mean_abs_error += std::abs(reading - head_yaw);
+        summary.within_subject += std::abs(reading - subject_mean);
+        ++summary.photos;
+      }
+    }
+    for (double* sum : {&summary.mean_reading, &summary.mean_error, &summary.mean_abs_error, &summary.within_subject}) {
+      *sum /= summary.photos;
+    }
+    const double mean_of_means = Mean(subject_means);
+    for (const double mean : subject_means) summary.subject_spread += std::pow(mean - mean_of_means, 2);
+    summary.subject_spread = std::sqrt(summary.subject_spread / static_cast<double>(subject_means.size()));
+  }
+  return summaries;
 }
 
 void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrainer& trainer) {

@@ -101,6 +101,22 @@ struct SubjectResampling {
 SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, GazeFrame frame, int draws = 2000,
                                    unsigned seed = 1);
 
+// How the head's yaw read from a photo's crops (the reading its fits were
+// given) errs at one head pose, and how much of that each person carries into
+// all their photos: the spread of the subjects' mean readings against how far
+// a photo's reading strays from its subject's mean.
+struct HeadYawReadings {
+  int head_pose = 0, photos = 0, subjects = 0;
+  double mean_reading = 0;                  // degrees
+  double mean_error = 0, mean_abs_error = 0;  // the reading less the head's yaw, -P
+  double subject_spread = 0;  // standard deviation over the subjects of a subject's mean reading
+  double within_subject = 0;  // a photo's mean distance from its subject's mean reading
+};
+
+// One entry per head pose, in order, over the photos whose fits had a head
+// reading (none where the head's yaw was given or there was no prior).
+std::vector<HeadYawReadings> SummariseHeadYawReadings(const std::vector<ColumbiaFit>& fits);
+
 // Every crop added to a trainer, by subject, with its gaze relative to the
 // head and its head yaw as labels.
 void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrainer& trainer);

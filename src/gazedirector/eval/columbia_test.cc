@@ -148,6 +148,38 @@ TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
   EXPECT_DOUBLE_EQ(one.yaw_high, 1);
 }
 
+// A fit whose crop's photo was read `head_yaw` (NaN: no reading).
+ColumbiaFit FitWithHeadReading(const std::string& name, double head_yaw) {
+  ColumbiaFit fit;
+  fit.crop = Crop(name);
+  fit.appearance.head_yaw = head_yaw;
+  return fit;
+}
+
+TEST(ColumbiaTest, HeadReadingsSplitIntoTheSubjectsAndTheirPhotos) {
+  // At head pose -30 (a head yaw of 30): subject 0001 read 24 and 26, subject
+  // 0002 read 32 and 36. Both eyes of a photo carry the photo's reading and
+  // count once; a fit with no reading (head pose 15 here) counts nowhere.
+  const std::vector<HeadYawReadings> summaries = SummariseHeadYawReadings({
+      FitWithHeadReading("0001_2m_-30P_0V_0H_L.jpg", 24),
+      FitWithHeadReading("0001_2m_-30P_0V_0H_R.jpg", 24),
+      FitWithHeadReading("0001_2m_-30P_0V_5H_L.jpg", 26),
+      FitWithHeadReading("0002_2m_-30P_0V_0H_R.jpg", 32),
+      FitWithHeadReading("0002_2m_-30P_10V_0H_R.jpg", 36),
+      FitWithHeadReading("0001_2m_15P_0V_0H_L.jpg", std::nan("")),
+  });
+  ASSERT_EQ(summaries.size(), 1u);
+  const HeadYawReadings& h = summaries[0];
+  EXPECT_EQ(h.head_pose, -30);
+  EXPECT_EQ(h.photos, 4);
+  EXPECT_EQ(h.subjects, 2);
+  EXPECT_DOUBLE_EQ(h.mean_reading, 29.5);
+  EXPECT_DOUBLE_EQ(h.mean_error, -0.5);
+  EXPECT_DOUBLE_EQ(h.mean_abs_error, (6 + 4 + 2 + 6) / 4.0);
+  EXPECT_DOUBLE_EQ(h.subject_spread, 4.5);  // means 25 and 34
+  EXPECT_DOUBLE_EQ(h.within_subject, (1 + 1 + 2 + 2) / 4.0);
+}
+
 // With the head's yaw given, what is left is the eye's turn in the head: the
 // model's fits (no appearance prior) of eyes looking into a lens 30 degrees
 // around the head read most of it, 0.87 on average here. Pulled toward the
