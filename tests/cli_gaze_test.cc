@@ -161,6 +161,15 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_EQ(head["subjects"].get<int>(), 1);
   EXPECT_DOUBLE_EQ(head["subject_spread_deg"].get<double>(), 0);
   EXPECT_LT(head["abs_error_mean_deg"].get<double>(), 10);
+  // Given the head's yaw, there is no reading to summarise.
+  ASSERT_EQ(RunCli("eval columbia --subjects 0013 --poses 0 --every 10 --known-head-pose --plot " +
+                       Quote(dir / "known.png") + " --json",
+                   &output),
+            0)
+      << output;
+  const nlohmann::json known = nlohmann::json::parse(output.substr(output.find('{')));
+  EXPECT_EQ(known["photos"].get<int>(), 3);
+  EXPECT_FALSE(known.contains("head_yaw_reading"));
   std::ifstream csv(dir / "crops.csv");
   std::string line;
   std::getline(csv, line);  // header

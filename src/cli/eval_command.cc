@@ -246,7 +246,9 @@ int RunColumbiaEval(const EvalOptions& options) {
   const PoseSummaries by_photo_camera = SummariseByPose(photos, GazeFrame::kCamera);
   const auto by_subject = SummariseBy(photos, GazeFrame::kHead, [](const ColumbiaCrop& crop) { return crop.subject; });
   const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead);
-  const std::vector<HeadYawReadings> head_readings = SummariseHeadYawReadings(fits);
+  // Given the head's yaw, the fits' readings carry that yaw, not a reading.
+  const std::vector<HeadYawReadings> head_readings =
+      options.known_head_pose ? std::vector<HeadYawReadings>{} : SummariseHeadYawReadings(fits);
   const double fits_per_s = fits.size() / seconds;
 
   if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));

@@ -114,7 +114,8 @@ struct HeadYawReadings {
 };
 
 // One entry per head pose, in order, over the photos whose fits had a head
-// reading (none where the head's yaw was given or there was no prior).
+// reading: fits with the head's yaw read (not given, where a fit's reading
+// carries the given yaw) and the appearance prior on.
 std::vector<HeadYawReadings> SummariseHeadYawReadings(const std::vector<ColumbiaFit>& fits);
 
 // Every crop added to a trainer, by subject, with its gaze relative to the
