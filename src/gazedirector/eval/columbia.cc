@@ -164,15 +164,15 @@ std::vector<HeadYawReadings> SummariseHeadYawReadings(const std::vector<Columbia
       subject_means.push_back(subject_mean);
       for (const double reading : values) {
         summary.mean_reading += reading;
-        summary.mean_error += reading - head_yaw;
         summary.mean_abs_error += std::abs(reading - head_yaw);
         summary.within_subject += std::abs(reading - subject_mean);
         ++summary.photos;
       }
     }
-    for (double* sum : {&summary.mean_reading, &summary.mean_error, &summary.mean_abs_error, &summary.within_subject}) {
-      *sum /= summary.photos;
-    }
+    summary.mean_reading /= summary.photos;
+    summary.mean_abs_error /= summary.photos;
+    summary.within_subject /= summary.photos;
+    summary.mean_error = summary.mean_reading - head_yaw;
     const double mean_of_means = Mean(subject_means);
     for (const double mean : subject_means) summary.subject_spread += std::pow(mean - mean_of_means, 2);
     summary.subject_spread = std::sqrt(summary.subject_spread / static_cast<double>(subject_means.size()));
