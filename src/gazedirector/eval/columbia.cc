@@ -143,23 +143,27 @@ SubjectResampling ResampleSubjects(const std::vector<ColumbiaPhoto>& photos, Gaz
 }
 
 std::vector<HeadYawReadings> SummariseHeadYawReadings(const std::vector<ColumbiaFit>& fits) {
-  // Head pose -> subject -> one reading per photo (both eyes carry the photo's).
-  std::map<int, std::map<std::string, std::vector<double>>> readings;
-  std::map<int, double> head_yaw_of_pose;
+  // One reading per photo (both eyes carry the photo's), by head pose and subject.
+  struct PoseReadings {
+    double head_yaw = 0;
+    std::map<std::string, std::vector<double>> by_subject;
+  };
+  std::map<int, PoseReadings> readings;
   std::set<std::string> photos_seen;
   for (const ColumbiaFit& fit : fits) {
     if (std::isnan(fit.appearance.head_yaw) || !photos_seen.insert(fit.crop.Photo()).second) continue;
-    readings[fit.crop.head_pose][fit.crop.subject].push_back(fit.appearance.head_yaw);
-    head_yaw_of_pose[fit.crop.head_pose] = fit.crop.HeadYaw();
+    PoseReadings& pose = readings[fit.crop.head_pose];
+    pose.head_yaw = fit.crop.HeadYaw();
+    pose.by_subject[fit.crop.subject].push_back(fit.appearance.head_yaw);
   }
   std::vector<HeadYawReadings> summaries;
-  for (const auto& [head_pose, by_subject] : readings) {
+  for (const auto& [head_pose, pose] : readings) {
     HeadYawReadings& summary = summaries.emplace_back();
     summary.head_pose = head_pose;
-    summary.subjects = static_cast<int>(by_subject.size());
-    const double head_yaw = head_yaw_of_pose.at(head_pose);
+    summary.subjects = static_cast<int>(pose.by_subject.size());
+    const double head_yaw = pose.head_yaw;
     std::vector<double> subject_means;
-    for (const auto& [subject, values] : by_subject) {
+    for (const auto& [subject, values] : pose.by_subject) {
       const double subject_mean = Mean(values);
       subject_means.push_back(subject_mean);
       for (const double reading : values) {
