@@ -195,13 +195,25 @@ void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrai
 
 std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTrainer& trainer,
                                                       const std::vector<std::string>& subjects) {
+  // The subjects the trainer has no crops of (people kept aside, say) share
+  // one model of all of them (left_out ""), solved once.
+  const std::vector<std::string> pool = trainer.subjects();
+  std::vector<std::string> left_out;
+  std::map<std::string, size_t> solve_of;
+  for (const std::string& subject : subjects) {
+    const bool in_pool = std::find(pool.begin(), pool.end(), subject) != pool.end();
+    const std::string key = in_pool ? subject : std::string();
+    const auto found = std::find(left_out.begin(), left_out.end(), key);
+    solve_of[subject] = found - left_out.begin();
+    if (found == left_out.end()) left_out.push_back(key);
+  }
   // Each solve is a few seconds of dense algebra on one core: side by side.
-  std::vector<AppearanceGaze> solved(subjects.size());
-  ThreadPool pool;
-  pool.ParallelFor(static_cast<int>(subjects.size()),
-                   [&](int index, int) { solved[index] = trainer.Solve(subjects[index]); });
+  std::vector<AppearanceGaze> solved(left_out.size());
+  ThreadPool threads;
+  threads.ParallelFor(static_cast<int>(left_out.size()),
+                      [&](int index, int) { solved[index] = trainer.Solve(left_out[index]); });
   std::map<std::string, AppearanceGaze> models;
-  for (size_t i = 0; i < subjects.size(); ++i) models.emplace(subjects[i], std::move(solved[i]));
+  for (const auto& [subject, index] : solve_of) models.emplace(subject, solved[index]);
   return models;
 }
 

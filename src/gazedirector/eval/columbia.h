@@ -124,7 +124,8 @@ void AddColumbiaCrops(const std::vector<ColumbiaCrop>& crops, AppearanceGazeTrai
 
 // Appearance gaze models for an honest evaluation: for each of `subjects`,
 // the trainer's model without that subject's crops, so that no crop is read
-// by a model that has seen its person.
+// by a model that has seen its person. Subjects the trainer has no crops of
+// share one model of all its crops, solved once.
 std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTrainer& trainer,
                                                       const std::vector<std::string>& subjects);
 

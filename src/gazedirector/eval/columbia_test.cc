@@ -148,6 +148,27 @@ TEST(ColumbiaTest, ResamplingBySubjectSpansTheSubjectsMeans) {
   EXPECT_DOUBLE_EQ(one.yaw_high, 1);
 }
 
+// People the training crops do not hold (the data set's subjects kept aside)
+// are each read by the model of every training subject; a training subject
+// by one without them.
+TEST(ColumbiaTest, LeavingOutSubjectsTheTrainingNeverSawKeepsEveryone) {
+  std::vector<ColumbiaCrop> crops;
+  for (const ColumbiaCrop& crop : ListColumbia(testing::DataPath("columbia-eyes"))) {
+    if ((crop.subject == "0001" || crop.subject == "0002") && crop.head_pose == 0) crops.push_back(crop);
+  }
+  AppearanceGazeTrainer trainer;
+  AddColumbiaCrops(crops, trainer);
+  const std::map<std::string, AppearanceGaze> models = LeaveSubjectOut(trainer, {"0001", "0098", "0099"});
+  ASSERT_EQ(models.size(), 3u);
+  using Subjects = std::vector<std::string>;
+  EXPECT_EQ(models.at("0001").subjects(), Subjects({"0002"}));
+  EXPECT_EQ(models.at("0098").subjects(), Subjects({"0001", "0002"}));
+  EXPECT_EQ(models.at("0099").subjects(), Subjects({"0001", "0002"}));
+  EXPECT_EQ(models.at("0099").samples().pitch, static_cast<int>(crops.size()));
+  const cv::Mat image = cv::imread(crops.front().path.string());
+  EXPECT_EQ(models.at("0098").ReadHeadYaw(image, kLeftEye), models.at("0099").ReadHeadYaw(image, kLeftEye));
+}
+
 // A fit whose crop's photo was read `head_yaw` (NaN: no reading).
 ColumbiaFit FitWithHeadReading(const std::string& name, double head_yaw) {
   ColumbiaFit fit;
