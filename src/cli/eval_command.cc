@@ -205,16 +205,13 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
     const std::vector<ColumbiaCrop> pool = ListColumbia(training);
     AddColumbiaCrops(pool, trainer);
     models.by_subject = LeaveSubjectOut(trainer, subjects);
-    const std::vector<std::string> trained = trainer.subjects();
-    const auto seen = std::count_if(subjects.begin(), subjects.end(), [&](const std::string& subject) {
-      return std::find(trained.begin(), trained.end(), subject) != trained.end();
-    });
-    models.source = fmt::format("trained on {} crops of {} subjects in {}, {}", pool.size(), trained.size(),
-                                training.string(),
-                                seen == 0 ? "none of them evaluated"
-                                : seen == static_cast<long>(subjects.size())
-                                    ? "each evaluated subject left out"
-                                    : fmt::format("the {} of them evaluated each left out", seen));
+    const long seen = std::count_if(subjects.begin(), subjects.end(),
+                                    [&](const std::string& subject) { return trainer.Has(subject); });
+    std::string left_out = fmt::format("the {} of them evaluated each left out", seen);
+    if (seen == 0) left_out = "none of them evaluated";
+    if (seen == static_cast<long>(subjects.size())) left_out = "each evaluated subject left out";
+    models.source = fmt::format("trained on {} crops of {} subjects in {}, {}", pool.size(),
+                                trainer.subjects().size(), training.string(), left_out);
     spdlog::info("appearance gaze: {} ({:.1f} s)", models.source, timer.Seconds());
     return models;
   }

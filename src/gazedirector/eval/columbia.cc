@@ -197,12 +197,10 @@ std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTraine
                                                       const std::vector<std::string>& subjects) {
   // The subjects the trainer has no crops of (people kept aside, say) share
   // one model of all of them (left_out ""), solved once.
-  const std::vector<std::string> pool = trainer.subjects();
   std::vector<std::string> left_out;
   std::map<std::string, size_t> solve_of;
   for (const std::string& subject : subjects) {
-    const bool in_pool = std::find(pool.begin(), pool.end(), subject) != pool.end();
-    const std::string key = in_pool ? subject : std::string();
+    const std::string key = trainer.Has(subject) ? subject : std::string();
     const auto found = std::find(left_out.begin(), left_out.end(), key);
     solve_of[subject] = found - left_out.begin();
     if (found == left_out.end()) left_out.push_back(key);

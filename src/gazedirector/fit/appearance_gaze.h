@@ -187,6 +187,7 @@ class AppearanceGazeTrainer {
   // Trained on every subject added except `left_out` (none when empty).
   AppearanceGaze Solve(const std::string& left_out = "") const;
   std::vector<std::string> subjects() const;
+  bool Has(const std::string& subject) const { return by_subject_.count(subject) > 0; }
 
  private:
   struct Sample {
