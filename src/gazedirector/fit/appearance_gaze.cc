@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <opencv2/imgproc.hpp>
@@ -366,6 +368,50 @@ double AppearanceGazeTrainer::HeadYawSlope(const Eigen::LLT<Eigen::MatrixXd>& fa
   return reading_times_label / label_squares;
 }
 
+Eigen::VectorXd AppearanceGazeTrainer::TurnOverPersonWeights(const Eigen::MatrixXd& standardised,
+                                                             const std::vector<double>& turns,
+                                                             const std::vector<int>& subject_of) {
+  const Eigen::Index features = standardised.cols();
+  if (static_cast<Eigen::Index>(turns.size()) != standardised.rows() ||
+      static_cast<Eigen::Index>(subject_of.size()) != standardised.rows()) {
+    Fail(ExitCode::kInternal, "appearance gaze: {} crops with {} turns and {} subjects", standardised.rows(),
+         turns.size(), subject_of.size());
+  }
+  struct Mean {
+    Eigen::VectorXd sum;
+    int count = 0;
+    void Add(const Eigen::VectorXd& v) {
+      sum = count == 0 ? v : Eigen::VectorXd(sum + v);
+      ++count;
+    }
+    Eigen::VectorXd Value() const { return sum / count; }
+  };
+  std::map<long, Mean> by_turn;
+  std::map<std::pair<long, int>, Mean> by_turn_and_subject;
+  for (Eigen::Index i = 0; i < standardised.rows(); ++i) {
+    if (std::isnan(turns[i])) continue;
+    const long turn = std::lround(turns[i]);
+    by_turn[turn].Add(standardised.row(i).transpose());
+    by_turn_and_subject[{turn, subject_of[i]}].Add(standardised.row(i).transpose());
+  }
+  if (by_turn.size() < 2 || by_turn_and_subject.size() <= by_turn.size()) return Eigen::VectorXd::Ones(features);
+  auto variance = [features](const std::vector<Eigen::VectorXd>& values) {
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(features), squares = Eigen::VectorXd::Zero(features);
+    for (const Eigen::VectorXd& v : values) mean += v;
+    mean /= static_cast<double>(values.size());
+    for (const Eigen::VectorXd& v : values) squares += (v - mean).cwiseAbs2();
+    return Eigen::VectorXd(squares / static_cast<double>(values.size()));
+  };
+  std::vector<Eigen::VectorXd> turn_means, person_offsets;
+  for (const auto& [turn, mean] : by_turn) turn_means.push_back(mean.Value());
+  for (const auto& [key, mean] : by_turn_and_subject) {
+    person_offsets.push_back(mean.Value() - by_turn.at(key.first).Value());
+  }
+  const Eigen::ArrayXd person = variance(person_offsets).array() + 1e-6;
+  const Eigen::VectorXd weights = (variance(turn_means).array() / person).sqrt().max(1e-3).matrix();
+  return weights / std::sqrt(weights.squaredNorm() / static_cast<double>(features));
+}
+
 AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   std::vector<const Sample*> samples;
   std::vector<int> subject_of;  // an index per training subject, in the samples' order
@@ -389,6 +435,16 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   model.feature_scale_ = (exemplars.leftCols(features).colwise().squaredNorm() / n).cwiseSqrt().transpose();
   for (double& scale : model.feature_scale_) scale = scale > 1e-9 ? scale : 1.0;
   exemplars.leftCols(features) = exemplars.leftCols(features) * model.feature_scale_.cwiseInverse().asDiagonal();
+  // In most features people differ more than one person's turns of the head
+  // do; weighed by how much more they tell the turn, the kernel looks past
+  // who the person is. People left out, every 5th Columbia photo: the head
+  // read from a photo's crops errs by 0.1-0.4 degrees less at every head
+  // pose, the fitted gaze's yaw 3.75 degrees instead of 3.80 (session 52).
+  std::vector<double> turns(n);
+  for (Eigen::Index i = 0; i < n; ++i) turns[i] = samples[i]->head_yaw;
+  const Eigen::VectorXd emphasis = TurnOverPersonWeights(exemplars.leftCols(features), turns, subject_of);
+  exemplars.leftCols(features) = exemplars.leftCols(features) * emphasis.asDiagonal();
+  model.feature_scale_ = model.feature_scale_.cwiseQuotient(emphasis);
   exemplars.col(features) *= kSideWeight;
   model.exemplars_ = exemplars.cast<float>();
   // Distances as the reading computes them, from the float exemplars.

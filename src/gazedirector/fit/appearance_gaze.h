@@ -189,6 +189,16 @@ class AppearanceGazeTrainer {
   std::vector<std::string> subjects() const;
   bool Has(const std::string& subject) const { return by_subject_.count(subject) > 0; }
 
+  // How much each feature (a column of `standardised`, one row per crop)
+  // tells the head's turn against how much it tells who the person is: the
+  // square root of the variance of the mean feature at each turn (`turns`,
+  // degrees, grouped to the degree; NaN: unknown) over the variance of each
+  // subject's mean at a turn about that turn's mean, scaled to a root mean
+  // square of 1. Ones where the turns or the subjects are too few to tell.
+  // Solve weighs the kernel's features by it.
+  static Eigen::VectorXd TurnOverPersonWeights(const Eigen::MatrixXd& standardised, const std::vector<double>& turns,
+                                               const std::vector<int>& subject_of);
+
  private:
   struct Sample {
     Eigen::VectorXd features;  // CropFeatures

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -203,6 +204,45 @@ TEST(AppearanceGazeTest, GivenTheHeadsYawATurnedEyeIsReadItsWholeTurn) {
     // that varied linearly with the turn; 5.9-7.0 with one set of weights.
     EXPECT_LT(Mean(errors), 5.2) << pose_and_eye.first << " " << pose_and_eye.second;
   }
+}
+
+// A feature that follows the head's turn weighs more than one that tells
+// people apart; the weights keep the features' overall scale. Four people,
+// three turns, two crops each: feature 0 is mostly the turn, feature 1
+// mostly the person, feature 2 some of each.
+TEST(AppearanceGazeTest, FeaturesThatTellTheTurnWeighMoreThanThoseThatTellThePerson) {
+  std::vector<double> turns;
+  std::vector<int> subject_of;
+  std::vector<Eigen::Vector3d> rows;
+  for (int subject = 0; subject < 4; ++subject) {
+    for (double turn : {-30.0, 0.0, 30.0}) {
+      for (int crop = 0; crop < 2; ++crop) {
+        const double person = subject - 1.5, noise = crop == 0 ? 0.05 : -0.05;
+        rows.emplace_back(turn / 30 + 0.1 * person + noise, person + 0.1 * turn / 30 - noise, turn / 30 + person);
+        turns.push_back(turn);
+        subject_of.push_back(subject);
+      }
+    }
+  }
+  Eigen::MatrixXd features(static_cast<Eigen::Index>(rows.size()), 3);
+  for (size_t i = 0; i < rows.size(); ++i) features.row(static_cast<Eigen::Index>(i)) = rows[i].transpose();
+  const Eigen::VectorXd weights = AppearanceGazeTrainer::TurnOverPersonWeights(features, turns, subject_of);
+  ASSERT_EQ(weights.size(), 3);
+  EXPECT_GT(weights[0], 1.0);
+  EXPECT_LT(weights[1], 0.2 * weights[0]);
+  EXPECT_GT(weights[2], weights[1]);
+  EXPECT_LT(weights[2], weights[0]);
+  EXPECT_NEAR(weights.squaredNorm() / 3, 1.0, 1e-12);
+  // Crops of unknown turn are left out of the counts.
+  std::vector<double> some_unknown = turns;
+  some_unknown[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_GT(AppearanceGazeTrainer::TurnOverPersonWeights(features, some_unknown, subject_of)[0], 1.0);
+  // One turn only, or one person only: nothing to tell, every feature weighs 1.
+  const std::vector<double> one_turn(turns.size(), 15.0);
+  EXPECT_EQ(AppearanceGazeTrainer::TurnOverPersonWeights(features, one_turn, subject_of), Eigen::VectorXd::Ones(3));
+  const std::vector<int> one_person(turns.size(), 0);
+  EXPECT_EQ(AppearanceGazeTrainer::TurnOverPersonWeights(features, turns, one_person), Eigen::VectorXd::Ones(3));
+  EXPECT_THROW(AppearanceGazeTrainer::TurnOverPersonWeights(features, {1.0}, subject_of), Error);
 }
 
 TEST(AppearanceGazeTest, ASavedModelReadsAlike) {
