@@ -198,12 +198,12 @@ std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTraine
   // The subjects the trainer has no crops of (people kept aside, say) share
   // one model of all of them (left_out ""), solved once.
   std::vector<std::string> left_out;
-  std::map<std::string, size_t> solve_of;
+  std::map<std::string, size_t> index_of_left_out, solve_of;
   for (const std::string& subject : subjects) {
     const std::string key = trainer.Has(subject) ? subject : std::string();
-    const auto found = std::find(left_out.begin(), left_out.end(), key);
-    solve_of[subject] = found - left_out.begin();
-    if (found == left_out.end()) left_out.push_back(key);
+    const auto [entry, added] = index_of_left_out.emplace(key, left_out.size());
+    if (added) left_out.push_back(key);
+    solve_of[subject] = entry->second;
   }
   // Each solve is a few seconds of dense algebra on one core: side by side.
   std::vector<AppearanceGaze> solved(left_out.size());
@@ -211,7 +211,12 @@ std::map<std::string, AppearanceGaze> LeaveSubjectOut(const AppearanceGazeTraine
   threads.ParallelFor(static_cast<int>(left_out.size()),
                       [&](int index, int) { solved[index] = trainer.Solve(left_out[index]); });
   std::map<std::string, AppearanceGaze> models;
-  for (const auto& [subject, index] : solve_of) models.emplace(subject, solved[index]);
+  std::vector<int> readers(left_out.size(), 0);
+  for (const auto& [subject, index] : solve_of) ++readers[index];
+  // Copied only while another subject still reads the same model.
+  for (const auto& [subject, index] : solve_of) {
+    models.emplace(subject, --readers[index] == 0 ? std::move(solved[index]) : solved[index]);
+  }
   return models;
 }
 

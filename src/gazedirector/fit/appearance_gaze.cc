@@ -381,8 +381,11 @@ Eigen::VectorXd AppearanceGazeTrainer::TurnOverPersonWeights(const Eigen::Matrix
     Eigen::VectorXd sum;
     int count = 0;
     void Add(const Eigen::VectorXd& v) {
-      sum = count == 0 ? v : Eigen::VectorXd(sum + v);
-      ++count;
+      if (count++ == 0) {
+        sum = v;
+      } else {
+        sum += v;
+      }
     }
     Eigen::VectorXd Value() const { return sum / count; }
   };
@@ -402,11 +405,10 @@ Eigen::VectorXd AppearanceGazeTrainer::TurnOverPersonWeights(const Eigen::Matrix
     for (const Eigen::VectorXd& v : values) squares += (v - mean).cwiseAbs2();
     return Eigen::VectorXd(squares / static_cast<double>(values.size()));
   };
+  std::map<long, Eigen::VectorXd> turn_mean;
   std::vector<Eigen::VectorXd> turn_means, person_offsets;
-  for (const auto& [turn, mean] : by_turn) turn_means.push_back(mean.Value());
-  for (const auto& [key, mean] : by_turn_and_subject) {
-    person_offsets.push_back(mean.Value() - by_turn.at(key.first).Value());
-  }
+  for (const auto& [turn, mean] : by_turn) turn_means.push_back(turn_mean[turn] = mean.Value());
+  for (const auto& [key, mean] : by_turn_and_subject) person_offsets.push_back(mean.Value() - turn_mean.at(key.first));
   const Eigen::ArrayXd person = variance(person_offsets).array() + 1e-6;
   const Eigen::VectorXd weights = (variance(turn_means).array() / person).sqrt().max(1e-3).matrix();
   return weights / std::sqrt(weights.squaredNorm() / static_cast<double>(features));
