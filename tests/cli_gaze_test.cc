@@ -248,6 +248,13 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
                    &output),
             2)
       << output;
+  for (const std::string target : {"--gaze 1000,0", "--gaze nan,0", "--offset 0,400"}) {
+    EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "a.jpg") + " " + target,
+                     &output),
+              2)
+        << target << ": " << output;
+    EXPECT_NE(output.find("within -90 to 90"), std::string::npos) << output;
+  }
   EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/s39.jpg")) + " -o " + Quote(dir / "cat.jpg"), &output), 3) << output;
   EXPECT_NE(output.find("no face"), std::string::npos) << output;
   {

@@ -1,4 +1,5 @@
 // gazedirector render: the eye-region model, alone or placed over a real face.
+#include <cmath>
 #include <fstream>
 #include <memory>
 
@@ -56,6 +57,12 @@ cv::Size ParseSize(const std::string& text) {
 int RunRender(const RenderOptions& options) {
   ApplyLogLevel(options.common);
   if (!IsImagePath(options.output)) Fail(ExitCode::kUsage, "-o {}: expected an image file (.png, .jpg)", options.output);
+  for (const double angle : options.gaze) {
+    if (!(std::abs(angle) <= 90)) Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
+  }
+  if (options.eyelid && !(std::abs(*options.eyelid) <= 90)) {
+    Fail(ExitCode::kUsage, "--eyelid {}: degrees within -90 to 90", *options.eyelid);
+  }
   const Assets assets = Assets::Resolve(options.common.assets);
   const auto model = EyeRegionModel::Load(assets);
 

@@ -54,6 +54,10 @@ GazeScript GazeScript::FromJson(const nlohmann::json& json) {
       if (!(segment.read.line_s > 0.2) || segment.read.lines < 1) {
         Fail(ExitCode::kBadInput, "reading: line_s must exceed 0.2 s and lines be at least 1");
       }
+      // The sweep's first and last gaze, so that a bad angle fails here and not in the middle of a video.
+      const double last_pitch = segment.read.pitch_deg - segment.read.line_spacing_deg * (segment.read.lines - 1);
+      GazeTarget::Direction(segment.read.pitch_deg, 0.5 * segment.read.width_deg, GazeTarget::Frame::kHead);
+      GazeTarget::Direction(last_pitch, -0.5 * segment.read.width_deg, GazeTarget::Frame::kHead);
     } else if (entry.contains("target")) {
       segment.target = GazeTarget::FromJson(entry["target"]);
     } else {

@@ -50,6 +50,9 @@ TEST(GazeScriptTest, RejectsBadScripts) {
   EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": []})")), Error);
   EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"start_s": 2, "target": "camera"}, {"start_s": 1, "target": "camera"}]})")), Error);
   EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"start_s": 0}]})")), Error);
+  EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"reading": {"width_deg": 400}}]})")), Error);
+  EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"reading": {"lines": 30, "line_spacing_deg": 10}}]})")), Error);
+  EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"target": {"gaze": [0, 135]}}]})")), Error);
 }
 
 }  // namespace

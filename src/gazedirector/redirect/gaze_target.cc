@@ -18,10 +18,22 @@ constexpr double kMaxPitch = 30, kMaxYaw = 50, kMaxVergence = 30;
 // From the model's gaze convention: d = (sin y cos p, -sin p, -cos y cos p).
 Eigen::Vector3d DirectionOf(double pitch_deg, double yaw_deg) { return EyeRegionModel::GazeInHead(pitch_deg, yaw_deg); }
 
+// Beyond a quarter turn a direction points behind the head and an offset wraps around: a typo, not a target.
+void CheckAngles(const char* what, double pitch_deg, double yaw_deg) {
+  if (!(std::abs(pitch_deg) <= 90) || !(std::abs(yaw_deg) <= 90)) {
+    Fail(ExitCode::kUsage, "{} pitch {}, yaw {}: each must be a number of degrees within -90 to 90", what, pitch_deg,
+         yaw_deg);
+  }
+}
+
 }  // namespace
 
 GazeTarget GazeTarget::Point(const Eigen::Vector3d& point) {
   GazeTarget target;
+  if (!point.allFinite() || point.z() == 0) {
+    Fail(ExitCode::kUsage, "look-at point ({}, {}, {}): needs three finite millimetres, z not 0", point.x(), point.y(),
+         point.z());
+  }
   target.kind = Kind::kPoint;
   target.point = point;
   return target;
@@ -29,6 +41,7 @@ GazeTarget GazeTarget::Point(const Eigen::Vector3d& point) {
 
 GazeTarget GazeTarget::Direction(double pitch_deg, double yaw_deg, Frame frame) {
   GazeTarget target;
+  CheckAngles("gaze direction", pitch_deg, yaw_deg);
   target.kind = Kind::kDirection;
   target.pitch_deg = pitch_deg, target.yaw_deg = yaw_deg, target.frame = frame;
   return target;
@@ -36,6 +49,7 @@ GazeTarget GazeTarget::Direction(double pitch_deg, double yaw_deg, Frame frame) 
 
 GazeTarget GazeTarget::Offset(double pitch_deg, double yaw_deg) {
   GazeTarget target;
+  CheckAngles("gaze offset", pitch_deg, yaw_deg);
   target.kind = Kind::kOffset;
   target.pitch_deg = pitch_deg, target.yaw_deg = yaw_deg;
   return target;

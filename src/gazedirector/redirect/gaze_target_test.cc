@@ -1,5 +1,8 @@
 #include "gazedirector/redirect/gaze_target.h"
 
+#include <cmath>
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "gazedirector/fit/face_fit.h"
@@ -65,6 +68,16 @@ TEST(GazeTargetTest, JsonRoundTripAndErrors) {
   EXPECT_THROW(GazeTarget::FromJson(nlohmann::json{{"look_at", {1, 2}}}), Error);
   EXPECT_THROW(GazeTarget::FromJson(nlohmann::json{{"gaze", {1, 2}}, {"frame", "world"}}), Error);
   EXPECT_THROW(GazeTarget::FromJson(nlohmann::json{{"stare", true}}), Error);
+}
+
+TEST(GazeTargetTest, RefusesAnglesBeyondAQuarterTurnAndPointsThatAreNotNumbers) {
+  EXPECT_NO_THROW(GazeTarget::Direction(90, -90, GazeTarget::Frame::kCamera));
+  EXPECT_THROW(GazeTarget::Direction(1000, 0, GazeTarget::Frame::kCamera), Error);
+  EXPECT_THROW(GazeTarget::Direction(0, std::nan(""), GazeTarget::Frame::kHead), Error);
+  EXPECT_THROW(GazeTarget::Offset(0, -120), Error);
+  EXPECT_THROW(GazeTarget::Point({0, std::numeric_limits<double>::infinity(), 500}), Error);
+  EXPECT_THROW(GazeTarget::Point({0, 0, 0}), Error);
+  EXPECT_THROW(GazeTarget::FromJson(nlohmann::json{{"gaze", {95, 0}}}), Error);
 }
 
 }  // namespace
