@@ -140,10 +140,19 @@ std::filesystem::path ColumbiaDir(const EvalOptions& options) {
 std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::filesystem::path& dir) {
   auto listed = [](const auto& list, const auto& value) { return std::find(list.begin(), list.end(), value) != list.end(); };
   auto chosen = [&](const auto& list, const auto& value) { return list.empty() || listed(list, value); };
+  const std::vector<ColumbiaCrop> all = ListColumbia(dir);
+  // A subject named but absent is most likely a typo; say so rather than quietly evaluate something else.
+  for (const std::vector<std::string>* named : {&options.subjects, &options.excluded_subjects}) {
+    for (const std::string& subject : *named) {
+      if (std::none_of(all.begin(), all.end(), [&](const ColumbiaCrop& crop) { return crop.subject == subject; })) {
+        spdlog::warn("subject {} has no crops in {}", subject, dir.string());
+      }
+    }
+  }
   std::vector<ColumbiaCrop> crops;
   int photo_index = -1;
   std::string last_photo;
-  for (const ColumbiaCrop& crop : ListColumbia(dir)) {
+  for (const ColumbiaCrop& crop : all) {
     if (!chosen(options.subjects, crop.subject) || listed(options.excluded_subjects, crop.subject) ||
         !chosen(options.poses, crop.head_pose)) {
       continue;
@@ -547,7 +556,7 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--plot", options->plot, "Write the convergence figure here (PNG)")->capture_default_str();
   columbia->add_option("--csv", options->csv, "Write every crop's estimate and error here");
   columbia->add_option("--poses", options->poses, "Only these head poses (e.g. 0 15)");
-  columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")->check(CLI::PositiveNumber);
+  columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")->check(CLI::Range(1, 1000000));
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_option("--appearance-training", options->appearance_training,

@@ -7,6 +7,7 @@
 #include "cli/common.h"
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/fit/appearance_gaze.h"
+#include "gazedirector/util/error.h"
 #include "gazedirector/util/timer.h"
 
 namespace gazedirector::cli {
@@ -21,6 +22,7 @@ struct TrainOptions {
 
 int RunTrainAppearance(const TrainOptions& options) {
   ApplyLogLevel(options.common);
+  if (!(options.ridge > 0 && options.ridge < 1e9)) Fail(ExitCode::kUsage, "--ridge {}: expected a number above 0", options.ridge);
   // Fails unless it is a folder with crops in it.
   const std::vector<ColumbiaCrop> crops = ListColumbia(ColumbiaDirOrDefault(options.dir));
   Timer timer;
@@ -44,7 +46,6 @@ Command RegisterTrainCommand(CLI::App& root) {
   app->add_option("dir", options->dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
   app->add_option("-o,--output", options->output, "Write the model here (CBOR)")->required();
   app->add_option("--ridge", options->ridge, "Ridge penalty of the kernel regressions (added to the kernel's diagonal)")
-      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   AddCommonOptions(*app, options->common);
   return {app, [options] { return RunTrainAppearance(*options); }};

@@ -41,9 +41,10 @@ double ParseNumber(const std::string& text, const std::string& assignment) {
     std::size_t used = 0;
     const double value = std::stod(text, &used);
     if (used != text.size()) throw std::invalid_argument("trailing characters");
+    if (!std::isfinite(value)) throw std::invalid_argument("not finite");
     return value;
   } catch (const std::exception&) {
-    Fail(ExitCode::kUsage, "fit option '{}': the value is not a number", assignment);
+    Fail(ExitCode::kUsage, "fit option '{}': the value is not a finite number", assignment);
   }
 }
 

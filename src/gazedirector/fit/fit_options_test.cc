@@ -39,7 +39,8 @@ TEST(FitOptionsTest, BadAssignmentsAreUsageErrorsThatChangeNothing) {
   const FitOptions before = options;
   for (const std::string bad : {"truncation", "truncation=abc", "truncation=0.2x", "truncation=-1", "unknown=1",
                                 "iterations=0", "pitch_starts=", "pitch_starts=1,,2", "pitch_starts=-10,50",
-                                "pitch_starts=1;2"}) {
+                                "pitch_starts=1;2", "truncation=nan", "shape_prior=inf", "iterations=nan",
+                                "pitch_starts=nan"}) {
     EXPECT_EQ(CodeOf(options, bad), ExitCode::kUsage) << bad;
   }
   EXPECT_EQ(options.pitch_starts, before.pitch_starts);
