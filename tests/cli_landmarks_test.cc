@@ -98,6 +98,8 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
       {"landmarks " + Quote(DataPath("images/s42.jpg")), 2},
       {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o5.json") + " --overlay " + Quote(dir / "o5.mp4"), 2},
       {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o6.json") + " --assets " + Quote(dir / "nowhere"), 5},
+      {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o7.json") + " --fx inf", 2},
+      {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o8.json") + " --cy nan", 2},
   };
   for (const Case& c : cases) {
     std::string output;
@@ -105,7 +107,7 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
     EXPECT_FALSE(output.empty());
     EXPECT_EQ(output.find("internal error"), std::string::npos) << output;
   }
-  for (const char* name : {"o1.json", "o2.json", "o3.json", "o4.jsonl", "o5.json", "o6.json"}) {
+  for (const char* name : {"o1.json", "o2.json", "o3.json", "o4.jsonl", "o5.json", "o6.json", "o7.json", "o8.json"}) {
     EXPECT_FALSE(fs::exists(dir / name)) << name;
   }
   EXPECT_TRUE(NoPartialFiles(dir));

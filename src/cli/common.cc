@@ -1,6 +1,7 @@
 #include "cli/common.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -28,7 +29,12 @@ Camera CameraOptions::Resolve(int width, int height) const {
   if (fy) camera.fy = *fy, camera.fx = fx.value_or(*fy);
   if (cx) camera.cx = *cx;
   if (cy) camera.cy = *cy;
-  if (!(camera.fx > 0 && camera.fy > 0)) Fail(ExitCode::kUsage, "focal lengths must be positive");
+  if (!(camera.fx > 0 && camera.fy > 0 && std::isfinite(camera.fx) && std::isfinite(camera.fy))) {
+    Fail(ExitCode::kUsage, "--fx {} --fy {}: focal lengths must be positive numbers of pixels", camera.fx, camera.fy);
+  }
+  if (!std::isfinite(camera.cx) || !std::isfinite(camera.cy)) {
+    Fail(ExitCode::kUsage, "--cx {} --cy {}: the principal point must be numbers of pixels", camera.cx, camera.cy);
+  }
   return camera;
 }
 
