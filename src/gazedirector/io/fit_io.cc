@@ -164,6 +164,8 @@ FitsFile ReadFits(const std::filesystem::path& path) {
       file.frames[frame.frame] = std::move(frame);
     } catch (const nlohmann::json::exception& e) {
       Fail(ExitCode::kBadInput, "{}: record {}: {}", path.string(), index, e.what());
+    } catch (const Error& e) {
+      Fail(e.code(), "{}: record {}: {}", path.string(), index, e.what());
     }
   }
   if (file.frames.empty()) Fail(ExitCode::kBadInput, "{}: no fits in the file", path.string());

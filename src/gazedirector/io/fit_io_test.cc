@@ -78,6 +78,19 @@ TEST(FitIoTest, BrokenFilesFailWithTheLine) {
     EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
   }
   EXPECT_THROW(ReadFits(path.parent_path() / "missing.jsonl"), Error);
+  {
+    // An edit that puts the eyes behind the camera names the file and the record.
+    nlohmann::json record = FrameRecord(0, 0.0, {SomeFit(0)});
+    record["faces"][0]["parameters"]["translation_mm"] = {0, 0, -100};
+    std::ofstream(path) << FrameRecord(1, 0.04, {SomeFit(0)}).dump() << "\n" << record.dump() << "\n";
+  }
+  try {
+    ReadFits(path);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("fits.jsonl: record 2: translation_mm"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

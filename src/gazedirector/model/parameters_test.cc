@@ -35,6 +35,12 @@ TEST(ParametersTest, JsonRoundTripsAndRejectsUnknownOrMisshapenBlocks) {
   json = phi.ToJson();
   json["gaze"] = 3;
   EXPECT_THROW(Parameters::FromJson(json), Error);
+  json = phi.ToJson();
+  json["gaze_pitch_yaw_vergence_deg"] = {1, 500, 0};
+  EXPECT_THROW(Parameters::FromJson(json), Error);
+  json = phi.ToJson();
+  json["translation_mm"] = {0, 0, -100};
+  EXPECT_THROW(Parameters::FromJson(json), Error);
   // Missing blocks keep their defaults.
   const Parameters partial = Parameters::FromJson(nlohmann::json{{"eyelid_pitch_deg", 5.0}});
   EXPECT_EQ(partial.eyelid_pitch(), 5.0);
