@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/io/image_io.h"
@@ -105,6 +106,36 @@ TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
     EXPECT_TRUE(fs::exists(dir / "debug" / name)) << name;
   }
   EXPECT_NE(output.find("redirected"), std::string::npos) << output;
+}
+
+TEST(CliGazeTest, RedirectKeepsASixteenBitPhotosAlphaAndEveryPixelAwayFromTheEyes) {
+  const fs::path dir = ScratchDir("cli_redirect_deep");
+  const cv::Mat photo = ReadImage(DataPath("images/d30.jpg"));
+  cv::Mat deep;
+  photo.convertTo(deep, CV_16U, 257.0);
+  deep += cv::Scalar::all(77);  // low bits an 8-bit round trip would lose
+  std::vector<cv::Mat> planes;
+  cv::split(deep, planes);
+  planes.emplace_back(photo.size(), CV_16U);
+  for (int y = 0; y < photo.rows; ++y) planes.back().row(y).setTo(cv::Scalar(65535 - 50 * y));
+  cv::Mat deep_alpha;
+  cv::merge(planes, deep_alpha);
+  ASSERT_TRUE(cv::imwrite((dir / "in.png").string(), deep_alpha));
+  std::string output;
+  ASSERT_EQ(RunCli("redirect " + Quote(dir / "in.png") + " -o " + Quote(dir / "out.png") + " --look-at camera", &output), 0)
+      << output;
+  const cv::Mat result = cv::imread((dir / "out.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(result.type(), CV_16UC4);
+  cv::Mat in_alpha, out_alpha;
+  cv::extractChannel(deep_alpha, in_alpha, 3);
+  cv::extractChannel(result, out_alpha, 3);
+  EXPECT_EQ(cv::norm(in_alpha, out_alpha, cv::NORM_INF), 0);
+  cv::Mat differs;
+  cv::compare(result.reshape(1), deep_alpha.reshape(1), differs, cv::CMP_NE);
+  const int changed = cv::countNonZero(differs);
+  // The eyes changed (a few thousand values), nothing else did.
+  EXPECT_GT(changed, 300);
+  EXPECT_LT(changed, 0.02 * photo.total() * 3);
 }
 
 TEST(CliGazeTest, RedirectColumbiaScoresOneSubjectRegisteredAndAsCut) {

@@ -118,7 +118,8 @@ std::string EyeList(const std::array<bool, 2>& eyes) {
 
 int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
-  const cv::Mat image = ReadImage(options.input);
+  const SourceImage source = ReadSourceImage(options.input);
+  const cv::Mat& image = source.bgr;
   const Camera camera = options.camera.Resolve(image.cols, image.rows);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
 
@@ -161,7 +162,8 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
                  target.gaze_yaw(), BuiltInEnvironmentMaps()[std::max(0, report.environment)].name,
                  report.specular_gain > 0 ? "" : " (none needed)", report.note.empty() ? "" : "; " + report.note);
   }
-  if (options.side_by_side) result = SideBySide(image, result);
+  result = InSourceFormat(source, result, options.output);
+  if (options.side_by_side) result = SideBySide(InSourceFormat(source, image, options.output), result);
   WriteImage(options.output, result, inputs);
   spdlog::info("{}: {} of {} face{} redirected to {} -> {}", options.input, redirected, fits.size(),
                fits.size() == 1 ? "" : "s", script.Describe(), options.output);

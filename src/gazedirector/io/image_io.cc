@@ -1,5 +1,10 @@
 #include "gazedirector/io/image_io.h"
 
+#include <algorithm>
+#include <cctype>
+#include <string>
+#include <vector>
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -23,6 +28,19 @@ void CheckSize(const fs::path& path, int width, int height) {
   }
 }
 
+std::string LowerExtension(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return extension;
+}
+
+bool HoldsSixteenBits(const fs::path& path) {
+  const std::string extension = LowerExtension(path);
+  return extension == ".png" || extension == ".tif" || extension == ".tiff";
+}
+
+bool MayHoldAlpha(const fs::path& path) { return HoldsSixteenBits(path) || LowerExtension(path) == ".webp"; }
+
 }  // namespace
 
 cv::Mat ToBgr8(const cv::Mat& image) {
@@ -44,7 +62,7 @@ cv::Mat ToBgr8(const cv::Mat& image) {
   return bgr;
 }
 
-cv::Mat ReadImage(const fs::path& path) {
+SourceImage ReadSourceImage(const fs::path& path) {
   if (DetectMediaKind(path) != MediaKind::kImage) Fail(ExitCode::kBadInput, "{}: not an image", path.string());
   if (const auto header = ProbeImageHeader(path)) {
     if (!header->complete || header->width <= 0 || header->height <= 0) {
@@ -60,7 +78,62 @@ cv::Mat ReadImage(const fs::path& path) {
   }
   if (decoded.empty()) Fail(ExitCode::kBadInput, "{}: cannot decode the image (corrupt or unsupported)", path.string());
   CheckSize(path, decoded.cols, decoded.rows);
-  return ToBgr8(decoded);
+  cv::Mat bgr = ToBgr8(decoded);
+  // OpenCV keeps alpha only when it also ignores the EXIF orientation; that
+  // decoding is the original when it shows the same picture.
+  cv::Mat unchanged;
+  if (MayHoldAlpha(path)) {
+    try {
+      unchanged = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception&) {
+    }
+  }
+  if (unchanged.channels() == 4 && unchanged.size() == bgr.size() && cv::norm(ToBgr8(unchanged), bgr, cv::NORM_INF) == 0) {
+    decoded = unchanged;
+  }
+  return {std::move(decoded), std::move(bgr)};
+}
+
+cv::Mat ReadImage(const fs::path& path) { return ReadSourceImage(path).bgr; }
+
+cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const fs::path& output) {
+  const cv::Mat& original = source.original;
+  const bool deep = original.depth() == CV_16U && HoldsSixteenBits(output);
+  const bool alpha = original.channels() == 4 && MayHoldAlpha(output);
+  const bool gray = original.channels() == 1;
+  if (!deep && !alpha && !gray && original.depth() == CV_8U && original.channels() == 3) return edited;
+
+  // The original in the format the output can hold; the edit goes over it where it changed anything.
+  cv::Mat base;
+  if (original.depth() == CV_8U || deep) {
+    base = original.clone();
+  } else {
+    // ToBgr8's scaling to 8 bits, keeping the channels.
+    const double scale = original.depth() == CV_16U ? 1.0 / 257.0 : original.depth() >= CV_32F ? 255.0 : 1.0;
+    original.convertTo(base, CV_8U, scale);
+  }
+  if (base.channels() == 4 && !alpha) cv::cvtColor(base, base, cv::COLOR_BGRA2BGR);
+
+  cv::Mat difference, changed;
+  cv::absdiff(edited, source.bgr, difference);
+  cv::Mat differences[3];
+  cv::split(difference, differences);
+  cv::bitwise_or(differences[0], differences[1], changed);
+  cv::bitwise_or(changed, differences[2], changed);
+  changed = changed > 0;
+
+  cv::Mat overlay = edited;
+  if (base.channels() == 1) cv::cvtColor(edited, overlay, cv::COLOR_BGR2GRAY);
+  if (base.depth() == CV_16U) overlay.convertTo(overlay, CV_16U, 257.0);
+  if (base.channels() == 4) {
+    std::vector<cv::Mat> planes;
+    cv::split(overlay, planes);
+    planes.emplace_back();
+    cv::extractChannel(base, planes.back(), 3);
+    cv::merge(planes, overlay);
+  }
+  overlay.copyTo(base, changed);
+  return base;
 }
 
 void WriteImage(const fs::path& path, const cv::Mat& image, const std::vector<fs::path>& inputs) {

@@ -20,6 +20,23 @@ cv::Mat ReadImage(const std::filesystem::path& path);
 // Converts a decoded image of any depth and channel count to 8-bit BGR.
 cv::Mat ToBgr8(const cv::Mat& image);
 
+// An image as its file holds it (any depth; 1, 3 or 4 channels) beside the
+// 8-bit BGR copy that the pipeline reads and edits.
+struct SourceImage {
+  cv::Mat original;
+  cv::Mat bgr;
+};
+
+// ReadImage, keeping the decoded original too.
+SourceImage ReadSourceImage(const std::filesystem::path& path);
+
+// `edited`, an edited copy of source.bgr, in the source's own depth and
+// channels as far as the format of `output` holds them (16 bits: PNG and TIFF;
+// alpha: PNG, TIFF and WebP; grayscale: all): the pixels the edit left alone keep
+// their original values exactly and the alpha channel is the original's, so an
+// edit loses nothing outside what it changed.
+cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const std::filesystem::path& output);
+
 // Writes atomically (temp file + rename); the format follows the extension.
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
                 const std::vector<std::filesystem::path>& inputs = {});

@@ -68,6 +68,69 @@ TEST(ImageIoTest, ConvertsGraySixteenBitAndAlpha) {
   EXPECT_EQ(cv::norm(from_alpha, photo, cv::NORM_INF), 0);
 }
 
+// A real photo edited as a redirection would: a patch around one eye changed.
+cv::Mat EditedEye(const cv::Mat& bgr) {
+  cv::Mat edited = bgr.clone();
+  cv::Mat patch = edited(cv::Rect(200, 180, 40, 20));
+  patch.forEach<cv::Vec3b>([](cv::Vec3b& pixel, const int*) { pixel = cv::Vec3b(pixel[1], pixel[2], pixel[0]); });
+  edited.at<cv::Vec3b>(300, 300)[0] ^= 1;  // the smallest change counts too
+  return edited;
+}
+
+TEST(ImageIoTest, AnEditKeepsTheSourcesDepthAlphaAndUntouchedPixels) {
+  const fs::path dir = ScratchDir("image_io_source_format");
+  const cv::Mat photo = cv::imread(DataPath("images/d19.jpg").string());
+  // 16 bits with low bits of its own, and a real alpha gradient.
+  cv::Mat deep;
+  photo.convertTo(deep, CV_16U, 257.0);
+  deep += cv::Scalar::all(77);
+  cv::Mat alpha(photo.size(), CV_16U);
+  for (int y = 0; y < alpha.rows; ++y) alpha.row(y).setTo(cv::Scalar(65535 - y * 40));
+  std::vector<cv::Mat> planes;
+  cv::split(deep, planes);
+  planes.push_back(alpha);
+  cv::Mat deep_alpha;
+  cv::merge(planes, deep_alpha);
+  ASSERT_TRUE(cv::imwrite((dir / "deep_alpha.png").string(), deep_alpha));
+
+  const SourceImage source = ReadSourceImage(dir / "deep_alpha.png");
+  ASSERT_EQ(source.original.type(), CV_16UC4);
+  ASSERT_EQ(source.bgr.type(), CV_8UC3);
+  const cv::Mat edited = EditedEye(source.bgr);
+
+  const cv::Mat as_png = InSourceFormat(source, edited, dir / "out.png");
+  ASSERT_EQ(as_png.type(), CV_16UC4);
+  cv::Mat edited_alpha_less, original_alpha_less;
+  cv::cvtColor(as_png, edited_alpha_less, cv::COLOR_BGRA2BGR);
+  cv::cvtColor(source.original, original_alpha_less, cv::COLOR_BGRA2BGR);
+  cv::Mat out_alpha;
+  cv::extractChannel(as_png, out_alpha, 3);
+  EXPECT_EQ(cv::norm(out_alpha, alpha, cv::NORM_INF), 0) << "the alpha is the source's";
+  cv::Mat unchanged_mask(photo.size(), CV_8U, cv::Scalar(255));
+  unchanged_mask(cv::Rect(200, 180, 40, 20)).setTo(0);
+  unchanged_mask.at<uchar>(300, 300) = 0;
+  EXPECT_EQ(cv::norm(edited_alpha_less, original_alpha_less, cv::NORM_INF, unchanged_mask), 0)
+      << "untouched pixels keep all 16 bits";
+  cv::Mat edited_deep;
+  edited.convertTo(edited_deep, CV_16U, 257.0);
+  EXPECT_EQ(cv::norm(edited_alpha_less(cv::Rect(200, 180, 40, 20)), edited_deep(cv::Rect(200, 180, 40, 20)), cv::NORM_INF), 0);
+  EXPECT_EQ(edited_alpha_less.at<cv::Vec3w>(300, 300)[0], edited.at<cv::Vec3b>(300, 300)[0] * 257);
+
+  // JPEG holds neither 16 bits nor alpha: the edit as it is.
+  const cv::Mat as_jpeg = InSourceFormat(source, edited, dir / "out.jpg");
+  EXPECT_EQ(as_jpeg.type(), CV_8UC3);
+  EXPECT_EQ(cv::norm(as_jpeg, edited, cv::NORM_INF), 0);
+
+  // A grayscale photo stays grayscale.
+  cv::Mat gray;
+  cv::cvtColor(photo, gray, cv::COLOR_BGR2GRAY);
+  ASSERT_TRUE(cv::imwrite((dir / "gray.png").string(), gray));
+  const SourceImage gray_source = ReadSourceImage(dir / "gray.png");
+  const cv::Mat gray_out = InSourceFormat(gray_source, EditedEye(gray_source.bgr), dir / "out.png");
+  EXPECT_EQ(gray_out.type(), CV_8UC1);
+  EXPECT_EQ(cv::norm(gray_out, gray, cv::NORM_INF, unchanged_mask), 0);
+}
+
 TEST(ImageIoTest, RefusesMissingEmptyTinyAndTruncatedImages) {
   const fs::path dir = ScratchDir("image_io_bad");
   EXPECT_EQ(ReadError(dir / "missing.jpg"), ExitCode::kBadInput);
