@@ -47,16 +47,14 @@ void AddCameraOptions(CLI::App& command, CameraOptions& options) {
 }
 
 void RequireExtension(const std::filesystem::path& path, const std::string& option, const std::vector<std::string>& allowed) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string extension = LowerExtension(path);
   if (std::find(allowed.begin(), allowed.end(), extension) == allowed.end()) {
     Fail(ExitCode::kUsage, "{} {}: expected a file ending in {}", option, path.string(), fmt::join(allowed, ", "));
   }
 }
 
 bool IsImagePath(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string extension = LowerExtension(path);
   return extension == ".png" || extension == ".jpg" || extension == ".jpeg" || extension == ".bmp" ||
          extension == ".tif" || extension == ".tiff" || extension == ".webp";
 }

@@ -1,7 +1,5 @@
 #include "gazedirector/io/image_io.h"
 
-#include <algorithm>
-#include <cctype>
 #include <string>
 #include <vector>
 
@@ -26,12 +24,6 @@ void CheckSize(const fs::path& path, int width, int height) {
     Fail(ExitCode::kBadInput, "{}: the image is {}x{} ({:.0f} megapixels); at most {:.0f} are supported",
          path.string(), width, height, megapixels, kMaxImageMegapixels);
   }
-}
-
-std::string LowerExtension(const fs::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  return extension;
 }
 
 bool HoldsSixteenBits(const fs::path& path) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <vector>
@@ -25,12 +26,6 @@ bool StartsWith(const std::vector<uint8_t>& bytes, std::size_t offset, std::stri
   if (bytes.size() < offset + text.size()) return false;
   return std::equal(text.begin(), text.end(), bytes.begin() + static_cast<std::ptrdiff_t>(offset),
                     [](char a, uint8_t b) { return static_cast<uint8_t>(a) == b; });
-}
-
-std::string LowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
 }
 
 bool IsImageExtension(const std::string& ext) {
@@ -95,6 +90,12 @@ std::optional<ImageHeader> ProbeJpeg(const fs::path& path, std::uintmax_t size) 
 }
 
 }  // namespace
+
+std::string LowerExtension(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return extension;
+}
 
 bool HasVideoExtension(const fs::path& path) {
   static const std::array<std::string_view, 7> kExt = {".mp4", ".mov", ".m4v", ".mkv", ".avi", ".webm", ".gif"};

@@ -12,6 +12,9 @@ enum class MediaKind { kImage, kVideo };
 // with ExitCode::kBadInput for a missing, empty or unrecognised file.
 MediaKind DetectMediaKind(const std::filesystem::path& path);
 
+// The path's extension in lower case, with its dot ("photo.JPG" -> ".jpg").
+std::string LowerExtension(const std::filesystem::path& path);
+
 // True when the path's extension names a video container we can write.
 bool HasVideoExtension(const std::filesystem::path& path);
 

@@ -1,8 +1,8 @@
 #include "gazedirector/io/video_writer.h"
 
-#include <algorithm>
 #include <string>
 
+#include "gazedirector/io/media.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -14,8 +14,7 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options
     Fail(ExitCode::kOutput, "writing {} needs the ffmpeg program; install Debian's ffmpeg (bash scripts/setup.sh does)",
          path.string());
   }
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string extension = LowerExtension(path);
   const std::string rate = std::to_string(options.frame_rate.numerator) + "/" + std::to_string(options.frame_rate.denominator);
   std::vector<std::string> argv = {"ffmpeg", "-hide_banner", "-nostdin", "-loglevel", "error", "-y",
                                    "-f", "rawvideo", "-pix_fmt", "bgr24",
