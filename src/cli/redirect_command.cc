@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
@@ -246,6 +247,15 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   const VideoInfo& info = reader.info();
   const Camera camera = options.camera.Resolve(info.width, info.height);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  const std::vector<double> starts = script.StartTimes();
+  std::vector<std::string> unseen;
+  for (const double start : starts) {
+    if (start >= info.duration_s()) unseen.push_back(fmt::format("{:g} s", start));
+  }
+  if (!unseen.empty()) {
+    spdlog::warn("the video ends at {:.1f} s, so the gaze script's segment{} starting at {} will not be seen",
+                 info.duration_s(), unseen.size() == 1 ? "" : "s", fmt::join(unseen, ", "));
+  }
 
   // Stage 1: the fits, given, stored by an earlier run, or tracked now.
   FitsFile fits;

@@ -102,6 +102,12 @@ Parameters GazeScript::TargetAt(const Parameters& fitted, double time_s) const {
   return BlendGaze(previous, current, Smoothstep(since / transition_s_));
 }
 
+std::vector<double> GazeScript::StartTimes() const {
+  std::vector<double> starts;
+  for (const Segment& segment : segments_) starts.push_back(segment.start_s);
+  return starts;
+}
+
 std::string GazeScript::Describe() const {
   if (segments_.size() == 1 && !segments_[0].reading) return segments_[0].target.Describe();
   return fmt::format("a script of {} segments", segments_.size());

@@ -30,6 +30,8 @@ class GazeScript {
   // The re-posed Φ of a face fitted as `fitted`, at `time_s`.
   Parameters TargetAt(const Parameters& fitted, double time_s) const;
   std::string Describe() const;
+  // When each segment starts, in order.
+  std::vector<double> StartTimes() const;
 
  private:
   struct Reading {

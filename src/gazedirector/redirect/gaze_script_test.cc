@@ -35,6 +35,11 @@ TEST(GazeScriptTest, HoldsEachTargetAndEasesBetweenThem) {
   }
 }
 
+TEST(GazeScriptTest, ListsWhenEachSegmentStarts) {
+  EXPECT_EQ(Script().StartTimes(), (std::vector<double>{0, 3, 5}));
+  EXPECT_EQ(GazeScript::Constant(GazeTarget::Camera()).StartTimes(), (std::vector<double>{0}));
+}
+
 TEST(GazeScriptTest, ReadingSweepsAlongLinesMovingDown) {
   const GazeScript script = Script();
   const Parameters fitted = Fitted();
