@@ -288,6 +288,14 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   }
   EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/s39.jpg")) + " -o " + Quote(dir / "cat.jpg"), &output), 3) << output;
   EXPECT_NE(output.find("no face"), std::string::npos) << output;
+  // Another photo's fits would draw its eyes in the wrong places.
+  ASSERT_EQ(RunCli("track " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "d30.jsonl"), &output), 0) << output;
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d19.jpg")) + " --fits " + Quote(dir / "d30.jsonl") + " -o " +
+                       Quote(dir / "c.jpg"),
+                   &output),
+            4)
+      << output;
+  EXPECT_NE(output.find("the fits were made on 600x900 frames"), std::string::npos) << output;
   {
     std::ofstream script(dir / "bad_script.json");
     script << R"({"segments": [{"start_s": 0, "target": {"look_at": "there"}}]})";
@@ -297,7 +305,7 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
                    &output),
             4)
       << output;
-  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "cat.jpg") ||
+  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "c.jpg") || fs::exists(dir / "cat.jpg") ||
                fs::exists(dir / "v.mp4"));
   EXPECT_TRUE(NoPartialFiles(dir));
 }

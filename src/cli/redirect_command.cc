@@ -117,6 +117,14 @@ std::string EyeList(const std::array<bool, 2>& eyes) {
   return "no eye";
 }
 
+// Fits of frames of another size belong to another input: their eyes would be drawn in the wrong places.
+void RequireFitsOfSize(const FitsFile& fits, int width, int height) {
+  if (fits.camera && (fits.camera->width != width || fits.camera->height != height)) {
+    Fail(ExitCode::kBadInput, "the fits were made on {}x{} frames, the input has {}x{}", fits.camera->width,
+         fits.camera->height, width, height);
+  }
+}
+
 int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const SourceImage source = ReadSourceImage(options.input);
@@ -127,6 +135,10 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
   std::vector<StoredFit> fits;
   if (!options.fits.empty()) {
     const FitsFile file = ReadFits(options.fits);
+    RequireFitsOfSize(file, image.cols, image.rows);
+    if (file.frames.size() > 1) {
+      spdlog::warn("{} holds the fits of {} video frames; using the first one's", options.fits, file.frames.size());
+    }
     fits = file.frames.begin()->second.faces;
   } else {
     GazeTracker tracker = setup.MakeTracker();
@@ -272,10 +284,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
       spdlog::info("fits stored in {}; edit them and pass --fits to re-render", cache.string());
     }
   }
-  if (fits.camera && (fits.camera->width != info.width || fits.camera->height != info.height)) {
-    Fail(ExitCode::kBadInput, "the fits were made on {}x{} frames, the video has {}x{}", fits.camera->width,
-         fits.camera->height, info.width, info.height);
-  }
+  RequireFitsOfSize(fits, info.width, info.height);
   const double frame_rate = info.frame_rate.value();
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
   const auto weights = RedirectionWeights(fits, frame_rate, 0.15, 0.5 * redirect_options.max_closure_deg);
