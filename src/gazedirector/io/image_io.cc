@@ -54,7 +54,10 @@ cv::Mat ToBgr8(const cv::Mat& image) {
   return bgr;
 }
 
-SourceImage ReadSourceImage(const fs::path& path) {
+namespace {
+
+// The image as OpenCV decodes it with the EXIF orientation applied (alpha dropped).
+cv::Mat Decode(const fs::path& path) {
   if (DetectMediaKind(path) != MediaKind::kImage) Fail(ExitCode::kBadInput, "{}: not an image", path.string());
   if (const auto header = ProbeImageHeader(path)) {
     if (!header->complete || header->width <= 0 || header->height <= 0) {
@@ -70,6 +73,15 @@ SourceImage ReadSourceImage(const fs::path& path) {
   }
   if (decoded.empty()) Fail(ExitCode::kBadInput, "{}: cannot decode the image (corrupt or unsupported)", path.string());
   CheckSize(path, decoded.cols, decoded.rows);
+  return decoded;
+}
+
+}  // namespace
+
+cv::Mat ReadImage(const fs::path& path) { return ToBgr8(Decode(path)); }
+
+SourceImage ReadSourceImage(const fs::path& path) {
+  cv::Mat decoded = Decode(path);
   cv::Mat bgr = ToBgr8(decoded);
   // OpenCV keeps alpha only when it also ignores the EXIF orientation; that
   // decoding is the original when it shows the same picture.
@@ -78,6 +90,7 @@ SourceImage ReadSourceImage(const fs::path& path) {
     try {
       unchanged = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
     } catch (const cv::Exception&) {
+      // The picture is decoded already; without this decoding it only loses its alpha.
     }
   }
   if (unchanged.channels() == 4 && unchanged.size() == bgr.size() && cv::norm(ToBgr8(unchanged), bgr, cv::NORM_INF) == 0) {
@@ -85,8 +98,6 @@ SourceImage ReadSourceImage(const fs::path& path) {
   }
   return {std::move(decoded), std::move(bgr)};
 }
-
-cv::Mat ReadImage(const fs::path& path) { return ReadSourceImage(path).bgr; }
 
 cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const fs::path& output) {
   const cv::Mat& original = source.original;
