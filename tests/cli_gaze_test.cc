@@ -305,8 +305,8 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
                    &output),
             4)
       << output;
-  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "c.jpg") || fs::exists(dir / "cat.jpg") ||
-               fs::exists(dir / "v.mp4"));
+  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "c.jpg") ||
+               fs::exists(dir / "cat.jpg") || fs::exists(dir / "v.mp4"));
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 

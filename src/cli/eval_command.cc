@@ -556,7 +556,8 @@ Command RegisterEvalCommand(CLI::App& root) {
   columbia->add_option("--plot", options->plot, "Write the convergence figure here (PNG)")->capture_default_str();
   columbia->add_option("--csv", options->csv, "Write every crop's estimate and error here");
   columbia->add_option("--poses", options->poses, "Only these head poses (e.g. 0 15)");
-  columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")->check(CLI::Range(1, 1000000));
+  columbia->add_option("--every", options->every, "Take every Nth photo, both eyes' crops (a quick, spread-out sample)")
+      ->check(CLI::Range(1, 1000000));
   columbia->add_option("--threads", options->threads, "Fits side by side")->check(CLI::Range(1, 64))->capture_default_str();
   columbia->add_option("--iterations", options->iterations, "Gauss-Newton iterations per fit (default: the fitter's)");
   columbia->add_option("--appearance-training", options->appearance_training,

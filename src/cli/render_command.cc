@@ -58,7 +58,9 @@ int RunRender(const RenderOptions& options) {
   ApplyLogLevel(options.common);
   if (!IsImagePath(options.output)) Fail(ExitCode::kUsage, "-o {}: expected an image file (.png, .jpg)", options.output);
   for (const double angle : options.gaze) {
-    if (!(std::abs(angle) <= 90)) Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
+    if (!(std::abs(angle) <= 90)) {
+      Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
+    }
   }
   if (options.eyelid && !(std::abs(*options.eyelid) <= 90)) {
     Fail(ExitCode::kUsage, "--eyelid {}: degrees within -90 to 90", *options.eyelid);

@@ -22,7 +22,9 @@ struct TrainOptions {
 
 int RunTrainAppearance(const TrainOptions& options) {
   ApplyLogLevel(options.common);
-  if (!(options.ridge > 0 && options.ridge < 1e9)) Fail(ExitCode::kUsage, "--ridge {}: expected a number above 0", options.ridge);
+  if (!(options.ridge > 0 && options.ridge < 1e9)) {
+    Fail(ExitCode::kUsage, "--ridge {}: expected a number above 0 and below 1e9", options.ridge);
+  }
   // Fails unless it is a folder with crops in it.
   const std::vector<ColumbiaCrop> crops = ListColumbia(ColumbiaDirOrDefault(options.dir));
   Timer timer;

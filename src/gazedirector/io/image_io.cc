@@ -93,7 +93,8 @@ SourceImage ReadSourceImage(const fs::path& path) {
       // The picture is decoded already; without this decoding it only loses its alpha.
     }
   }
-  if (unchanged.channels() == 4 && unchanged.size() == bgr.size() && cv::norm(ToBgr8(unchanged), bgr, cv::NORM_INF) == 0) {
+  if (unchanged.channels() == 4 && unchanged.size() == bgr.size() &&
+      cv::norm(ToBgr8(unchanged), bgr, cv::NORM_INF) == 0) {
     decoded = unchanged;
   }
   return {std::move(decoded), std::move(bgr)};

@@ -98,7 +98,9 @@ Parameters Parameters::FromJson(const nlohmann::json& json) {
   if (!(parameters.interocular() > 0) || !(parameters.iris_size() > 0)) {
     Fail(ExitCode::kBadInput, "interocular distance and iris size must be positive");
   }
-  if (!(parameters.translation().z() > 0)) Fail(ExitCode::kBadInput, "translation_mm: the eyes must be in front of the camera (z > 0)");
+  if (!(parameters.translation().z() > 0)) {
+    Fail(ExitCode::kBadInput, "translation_mm: the eyes must be in front of the camera (z > 0)");
+  }
   // Past a quarter turn the angles wrap around: an edit gone wrong, not a pose.
   if (!(std::abs(parameters.gaze_pitch()) <= 90 && std::abs(parameters.gaze_yaw()) <= 90 &&
         std::abs(parameters.eyelid_pitch()) <= 90)) {
