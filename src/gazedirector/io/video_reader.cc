@@ -1,7 +1,9 @@
 #include "gazedirector/io/video_reader.h"
 
 #include <cmath>
+#include <utility>
 
+#include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "gazedirector/io/image_io.h"
@@ -32,8 +34,16 @@ VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   if (!capture_->isOpened()) {
     Fail(ExitCode::kBadInput, "{}: cannot open the video (truncated, corrupt or unsupported)", path.string());
   }
+  // OpenCV 4.6 (Debian 12's) turns a video stored a quarter turn from upright
+  // the wrong way (opencv/opencv#22088), so a phone's portrait video came out
+  // upside down. Read the frames as stored and turn them as ffmpeg and players do.
+  capture_->set(cv::CAP_PROP_ORIENTATION_AUTO, 0);
+  const int meta = static_cast<int>(std::lround(capture_->get(cv::CAP_PROP_ORIENTATION_META)));
+  counterclockwise_deg_ = ((meta % 360) + 360) % 360;
+  if (counterclockwise_deg_ % 90 != 0) counterclockwise_deg_ = 0;
   info_.width = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_WIDTH));
   info_.height = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_HEIGHT));
+  if (counterclockwise_deg_ == 90 || counterclockwise_deg_ == 270) std::swap(info_.width, info_.height);
   info_.frame_rate = FrameRate::FromDouble(capture_->get(cv::CAP_PROP_FPS));
   info_.frame_count = std::max(0L, static_cast<long>(capture_->get(cv::CAP_PROP_FRAME_COUNT)));
   if (info_.width < kMinImageSide || info_.height < kMinImageSide) {
@@ -59,6 +69,12 @@ bool VideoReader::Read(cv::Mat& frame) {
     return false;
   }
   frame = decoded.type() == CV_8UC3 ? decoded : ToBgr8(decoded);
+  switch (counterclockwise_deg_) {
+    case 90: cv::rotate(frame, frame, cv::ROTATE_90_COUNTERCLOCKWISE); break;
+    case 180: cv::rotate(frame, frame, cv::ROTATE_180); break;
+    case 270: cv::rotate(frame, frame, cv::ROTATE_90_CLOCKWISE); break;
+    default: break;
+  }
   ++frame_index_;
   return true;
 }

@@ -28,7 +28,8 @@ struct VideoInfo {
   double duration_s() const { return frame_count / frame_rate.value(); }
 };
 
-// Decodes a video file frame by frame as 8-bit BGR. Fails with
+// Decodes a video file frame by frame as 8-bit BGR, turned upright as its
+// container asks (phone videos), as ffmpeg shows it. Fails with
 // ExitCode::kBadInput when the file cannot be opened or holds no frame.
 class VideoReader {
  public:
@@ -49,6 +50,7 @@ class VideoReader {
   std::filesystem::path path_;
   std::unique_ptr<cv::VideoCapture> capture_;
   VideoInfo info_;
+  int counterclockwise_deg_ = 0;  // the display turn the container asks for: 0, 90, 180 or 270
   long frame_index_ = -1;
   bool ended_ = false;
 };
