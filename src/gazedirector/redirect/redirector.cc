@@ -182,10 +182,14 @@ std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera&
   for (int eye = 0; eye < 2; ++eye) {
     const int rest = CountPart(target_buffers_, EyeballPart(eye));
     const int shown = CountPart(fitted_buffers_, EyeballPart(eye));
-    if (rest < 6 || shown < options_.min_open_fraction * rest) {
+    const char* side = eye == kLeftEye ? "left" : "right";
+    if (rest < 6) {
       open[eye] = false;
-      note += fmt::format("{}{} eye closed or hidden ({:.0f}% of its eyeball shows)", note.empty() ? "" : "; ",
-                          eye == kLeftEye ? "left" : "right", rest ? 100.0 * shown / rest : 0.0);
+      note += fmt::format("{}{} eye too small to redirect ({} pixels of eyeball)", note.empty() ? "" : "; ", side, rest);
+    } else if (shown < options_.min_open_fraction * rest) {
+      open[eye] = false;
+      note += fmt::format("{}{} eye closed or hidden ({:.0f}% of its eyeball shows)", note.empty() ? "" : "; ", side,
+                          100.0 * shown / rest);
     }
   }
   return open;
