@@ -37,9 +37,9 @@ VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   // OpenCV 4.6 (Debian 12's) turns a video stored a quarter turn from upright
   // the wrong way (opencv/opencv#22088), so a phone's portrait video came out
   // upside down. Read the frames as stored and turn them as ffmpeg and players do.
-  capture_->set(cv::CAP_PROP_ORIENTATION_AUTO, 0);
+  const bool stored = capture_->set(cv::CAP_PROP_ORIENTATION_AUTO, 0) && capture_->get(cv::CAP_PROP_ORIENTATION_AUTO) == 0;
   const int meta = static_cast<int>(std::lround(capture_->get(cv::CAP_PROP_ORIENTATION_META)));
-  counterclockwise_deg_ = ((meta % 360) + 360) % 360;
+  counterclockwise_deg_ = stored ? ((meta % 360) + 360) % 360 : 0;  // never turned twice
   if (counterclockwise_deg_ % 90 != 0) counterclockwise_deg_ = 0;
   info_.width = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_WIDTH));
   info_.height = static_cast<int>(capture_->get(cv::CAP_PROP_FRAME_HEIGHT));
