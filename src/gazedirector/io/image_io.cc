@@ -33,9 +33,8 @@ bool HoldsSixteenBits(const fs::path& path) {
 
 bool MayHoldAlpha(const fs::path& path) { return HoldsSixteenBits(path) || LowerExtension(path) == ".webp"; }
 
-}  // namespace
-
-cv::Mat ToBgr8(const cv::Mat& image) {
+// The image scaled to 8 bits, its channels kept (shared, not copied, when it is 8-bit already).
+cv::Mat To8Bit(const cv::Mat& image) {
   cv::Mat eight_bit;
   switch (image.depth()) {
     case CV_8U: eight_bit = image; break;
@@ -44,6 +43,13 @@ cv::Mat ToBgr8(const cv::Mat& image) {
     case CV_64F: image.convertTo(eight_bit, CV_8U, 255.0); break;
     default: image.convertTo(eight_bit, CV_8U); break;
   }
+  return eight_bit;
+}
+
+}  // namespace
+
+cv::Mat ToBgr8(const cv::Mat& image) {
+  const cv::Mat eight_bit = To8Bit(image);
   cv::Mat bgr;
   switch (eight_bit.channels()) {
     case 1: cv::cvtColor(eight_bit, bgr, cv::COLOR_GRAY2BGR); break;
@@ -104,27 +110,15 @@ cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const f
   const cv::Mat& original = source.original;
   const bool deep = original.depth() == CV_16U && HoldsSixteenBits(output);
   const bool alpha = original.channels() == 4 && MayHoldAlpha(output);
-  const bool gray = original.channels() == 1;
-  if (!deep && !alpha && !gray && original.depth() == CV_8U && original.channels() == 3) return edited;
+  // Where the output holds only 8-bit colour, that is what the edit is.
+  if (!deep && !alpha && original.channels() != 1) return edited;
 
   // The original in the format the output can hold; the edit goes over it where it changed anything.
-  cv::Mat base;
-  if (original.depth() == CV_8U || deep) {
-    base = original.clone();
-  } else {
-    // ToBgr8's scaling to 8 bits, keeping the channels.
-    const double scale = original.depth() == CV_16U ? 1.0 / 257.0 : original.depth() >= CV_32F ? 255.0 : 1.0;
-    original.convertTo(base, CV_8U, scale);
-  }
-  if (base.channels() == 4 && !alpha) cv::cvtColor(base, base, cv::COLOR_BGRA2BGR);
-
-  cv::Mat difference, changed;
+  // (Past the return above, four channels always keep their alpha: a format that holds 16 bits holds alpha too.)
+  cv::Mat base = (deep ? original : To8Bit(original)).clone();
+  cv::Mat difference, unchanged;
   cv::absdiff(edited, source.bgr, difference);
-  cv::Mat differences[3];
-  cv::split(difference, differences);
-  cv::bitwise_or(differences[0], differences[1], changed);
-  cv::bitwise_or(changed, differences[2], changed);
-  changed = changed > 0;
+  cv::inRange(difference, cv::Scalar::all(0), cv::Scalar::all(0), unchanged);  // every channel equal
 
   cv::Mat overlay = edited;
   if (base.channels() == 1) cv::cvtColor(edited, overlay, cv::COLOR_BGR2GRAY);
@@ -136,7 +130,7 @@ cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const f
     cv::extractChannel(base, planes.back(), 3);
     cv::merge(planes, overlay);
   }
-  overlay.copyTo(base, changed);
+  overlay.copyTo(base, unchanged == 0);
   return base;
 }
 
