@@ -15,6 +15,7 @@ using testing::DataPath;
 using testing::NoPartialFiles;
 using testing::Quote;
 using testing::RunCli;
+using testing::RunCommand;
 using testing::ScratchDir;
 
 std::string ReadText(const fs::path& path) {
@@ -132,12 +133,9 @@ TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
   EXPECT_EQ(Lines(ReadText(dir / "d19.csv")).size(), 251u);
 
   std::string probe;
-  const std::string command = "ffprobe -v error -count_frames -show_entries stream=codec_type,nb_read_frames -of csv=p=0 " +
-                              Quote(dir / "d19.mp4");
-  FILE* pipe = ::popen(command.c_str(), "r");
-  char buffer[256];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) probe += buffer;
-  ::pclose(pipe);
+  RunCommand("ffprobe -v error -count_frames -show_entries stream=codec_type,nb_read_frames -of csv=p=0 " +
+                 Quote(dir / "d19.mp4"),
+             &probe);
   EXPECT_NE(probe.find("video,250"), std::string::npos) << probe;
   EXPECT_NE(probe.find("audio"), std::string::npos) << probe;
 }

@@ -89,9 +89,8 @@ fs::path ScratchDir(const std::string& name) {
 
 fs::path CliPath() { return fs::path(GAZEDIRECTOR_CLI_PATH); }
 
-int RunCli(const std::string& arguments, std::string* output) {
-  const std::string command = fmt::format("'{}' {} 2>&1", CliPath().string(), arguments);
-  FILE* pipe = ::popen(command.c_str(), "r");
+int RunCommand(const std::string& command, std::string* output) {
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return -1;
   std::array<char, 4096> buffer;
   std::string text;
@@ -99,6 +98,10 @@ int RunCli(const std::string& arguments, std::string* output) {
   const int status = ::pclose(pipe);
   if (output != nullptr) *output = text;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+int RunCli(const std::string& arguments, std::string* output) {
+  return RunCommand(fmt::format("'{}' {}", CliPath().string(), arguments), output);
 }
 
 std::string Quote(const fs::path& path) { return fmt::format("'{}'", path.string()); }

@@ -52,8 +52,10 @@ std::filesystem::path ScratchDir(const std::string& name);
 // The gazedirector program built beside the tests.
 std::filesystem::path CliPath();
 
-// Runs the CLI with `arguments` (shell-quoted by the caller); returns its exit
-// code and fills `output` with stdout+stderr.
+// Runs a shell command; returns its exit code and fills `output` with
+// stdout+stderr.
+int RunCommand(const std::string& command, std::string* output = nullptr);
+// Runs the CLI with `arguments` (shell-quoted by the caller), as RunCommand.
 int RunCli(const std::string& arguments, std::string* output = nullptr);
 // A path in single quotes, for RunCli's shell.
 std::string Quote(const std::filesystem::path& path);

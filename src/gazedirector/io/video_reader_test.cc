@@ -1,6 +1,5 @@
 #include "gazedirector/io/video_reader.h"
 
-#include <cstdlib>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -16,9 +15,8 @@ namespace {
 namespace fs = std::filesystem;
 using testing::DataPath;
 using testing::Quote;
+using testing::RunCommand;
 using testing::ScratchDir;
-
-int Shell(const std::string& command) { return std::system((command + " > /dev/null 2>&1").c_str()); }
 
 TEST(VideoReaderTest, ReadsARealVideosSizeRateAndEveryFrame) {
   VideoReader reader(DataPath("video/s18.mp4"));
@@ -44,10 +42,10 @@ TEST(VideoReaderTest, TurnsFramesAsTheContainerAsksLikeFfmpeg) {
   for (const int rotate : {90, 180, 270}) {
     const fs::path video = dir / ("rotate" + std::to_string(rotate) + ".mp4");
     const fs::path shown = dir / ("rotate" + std::to_string(rotate) + ".png");
-    ASSERT_EQ(Shell("ffmpeg -v error -y -i " + Quote(DataPath("video/s18.mp4")) + " -t 0.5 -c copy -metadata:s:v:0 rotate=" +
+    ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/s18.mp4")) + " -t 0.5 -c copy -metadata:s:v:0 rotate=" +
                     std::to_string(rotate) + " " + Quote(video)),
               0);
-    ASSERT_EQ(Shell("ffmpeg -v error -y -i " + Quote(video) + " -frames:v 1 " + Quote(shown)), 0);
+    ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(video) + " -frames:v 1 " + Quote(shown)), 0);
     const cv::Mat expected = cv::imread(shown.string());
     ASSERT_FALSE(expected.empty());
 
