@@ -1,5 +1,5 @@
 // gazedirector render: the eye-region model, alone or placed over a real face.
-#include <cmath>
+#include <algorithm>
 #include <fstream>
 #include <memory>
 
@@ -9,6 +9,7 @@
 #include "cli/common.h"
 #include "gazedirector/face/face_tracker.h"
 #include "gazedirector/fit/initialization.h"
+#include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/model/eye_region_model.h"
@@ -57,12 +58,10 @@ cv::Size ParseSize(const std::string& text) {
 int RunRender(const RenderOptions& options) {
   ApplyLogLevel(options.common);
   if (!IsImagePath(options.output)) Fail(ExitCode::kUsage, "-o {}: expected an image file (.png, .jpg)", options.output);
-  for (const double angle : options.gaze) {
-    if (!(std::abs(angle) <= 90)) {
-      Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
-    }
+  if (!std::all_of(options.gaze.begin(), options.gaze.end(), WithinQuarterTurn)) {
+    Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
   }
-  if (options.eyelid && !(std::abs(*options.eyelid) <= 90)) {
+  if (options.eyelid && !WithinQuarterTurn(*options.eyelid)) {
     Fail(ExitCode::kUsage, "--eyelid {}: degrees within -90 to 90", *options.eyelid);
   }
   const Assets assets = Assets::Resolve(options.common.assets);

@@ -102,8 +102,8 @@ Parameters Parameters::FromJson(const nlohmann::json& json) {
     Fail(ExitCode::kBadInput, "translation_mm: the eyes must be in front of the camera (z > 0)");
   }
   // Past a quarter turn the angles wrap around: an edit gone wrong, not a pose.
-  if (!(std::abs(parameters.gaze_pitch()) <= 90 && std::abs(parameters.gaze_yaw()) <= 90 &&
-        std::abs(parameters.eyelid_pitch()) <= 90)) {
+  if (!WithinQuarterTurn(parameters.gaze_pitch()) || !WithinQuarterTurn(parameters.gaze_yaw()) ||
+      !WithinQuarterTurn(parameters.eyelid_pitch())) {
     Fail(ExitCode::kBadInput, "gaze_pitch_yaw_vergence_deg and eyelid_pitch_deg: angles must be within -90 to 90 degrees");
   }
   return parameters;

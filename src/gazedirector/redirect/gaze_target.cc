@@ -20,7 +20,7 @@ Eigen::Vector3d DirectionOf(double pitch_deg, double yaw_deg) { return EyeRegion
 
 // Beyond a quarter turn a direction points behind the head and an offset wraps around: a typo, not a target.
 void CheckAngles(const char* what, double pitch_deg, double yaw_deg) {
-  if (!(std::abs(pitch_deg) <= 90) || !(std::abs(yaw_deg) <= 90)) {
+  if (!WithinQuarterTurn(pitch_deg) || !WithinQuarterTurn(yaw_deg)) {
     Fail(ExitCode::kUsage, "{} pitch {}, yaw {}: each must be a number of degrees within -90 to 90", what, pitch_deg,
          yaw_deg);
   }
