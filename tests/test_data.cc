@@ -4,12 +4,14 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <mutex>
 
 #include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
 
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/io/image_io.h"
@@ -71,6 +73,28 @@ const FittedStill& FitStill(const std::string& photo) {
   FittedStill still{DetectStill(photo), {}};
   if (!still.faces.empty()) still.fit = Fitter(SharedModel()).FitFace(still.image, still.camera, still.faces.front());
   return fitted.emplace(photo, std::move(still)).first->second;
+}
+
+Eigen::Vector2d TurnedPhoto::Map(const Eigen::Vector2d& p) const {
+  return {map(0, 0) * p.x() + map(0, 1) * p.y() + map(0, 2), map(1, 0) * p.x() + map(1, 1) * p.y() + map(1, 2)};
+}
+
+Landmarks68 TurnedPhoto::Map(const Landmarks68& landmarks) const {
+  Landmarks68 mapped;
+  for (int i = 0; i < kNumLandmarks; ++i) mapped[i] = Map(landmarks[i]);
+  return mapped;
+}
+
+TurnedPhoto TurnPhoto(const cv::Mat& image, double degrees) {
+  const cv::Point2f centre(0.5f * (image.cols - 1), 0.5f * (image.rows - 1));
+  cv::Mat map = cv::getRotationMatrix2D(centre, -degrees, 1.0);  // OpenCV turns counter-clockwise
+  const cv::Rect2f bounds = cv::RotatedRect(centre, image.size(), static_cast<float>(degrees)).boundingRect2f();
+  map.at<double>(0, 2) += 0.5 * bounds.width - centre.x;
+  map.at<double>(1, 2) += 0.5 * bounds.height - centre.y;
+  TurnedPhoto turned;
+  turned.map = cv::Matx23d(map);
+  cv::warpAffine(image, turned.image, map, cv::Size(static_cast<int>(std::ceil(bounds.width)), static_cast<int>(std::ceil(bounds.height))));
+  return turned;
 }
 
 fs::path ScratchDir(const std::string& name) {

@@ -47,6 +47,17 @@ struct FittedStill : DetectedStill {
   FitResult fit;
 };
 const FittedStill& FitStill(const std::string& photo);
+// A photo turned by `degrees` clockwise as shown about its centre, on a
+// canvas that holds all of it (OpenCV's own rotation, black outside), and the
+// map of its points: a face tilted in the image by as much.
+struct TurnedPhoto {
+  cv::Mat image;
+  cv::Matx23d map;
+  Eigen::Vector2d Map(const Eigen::Vector2d& p) const;
+  Landmarks68 Map(const Landmarks68& landmarks) const;
+};
+TurnedPhoto TurnPhoto(const cv::Mat& image, double degrees);
+
 // A fresh folder under the build tree's temp dir, removed with the process.
 std::filesystem::path ScratchDir(const std::string& name);
 // The gazedirector program built beside the tests.

@@ -33,6 +33,7 @@ struct EvalOptions {
   CommonOptions common;
   bool json = false;
   std::string landmarks_xml;
+  std::vector<double> landmark_turns = {0};
   std::string columbia_dir;
   std::string plot = "eval_columbia.png";
   std::string csv;
@@ -508,25 +509,43 @@ int RunLandmarkEval(const EvalOptions& options) {
   const Assets assets = Assets::Resolve(options.common.assets);
   auto landmark_detector = std::make_shared<LandmarkDetector>(assets.landmark_model());
   FaceTracker tracker(landmark_detector, LoadMeanFace(assets.mean_face()));
-  const LandmarkAccuracy accuracy = EvaluateLandmarks(xml, tracker, *landmark_detector);
-  const nlohmann::json result = {
-      {"faces", accuracy.faces},
-      {"detected", accuracy.detected},
-      {"mean_error_given_box", accuracy.MeanGivenBox()},
-      {"median_error_given_box", accuracy.MedianGivenBox()},
-      {"mean_error_pipeline", accuracy.MeanPipeline()},
-      {"median_error_pipeline", accuracy.MedianPipeline()},
+  std::vector<std::pair<double, LandmarkAccuracy>> by_turn;
+  for (double turn : options.landmark_turns) by_turn.emplace_back(turn, EvaluateLandmarks(xml, tracker, *landmark_detector, turn));
+  auto to_json = [](const LandmarkAccuracy& accuracy) {
+    return nlohmann::json{
+        {"faces", accuracy.faces},
+        {"detected", accuracy.detected},
+        {"mean_error_given_box", accuracy.MeanGivenBox()},
+        {"median_error_given_box", accuracy.MedianGivenBox()},
+        {"mean_error_pipeline", accuracy.MeanPipeline()},
+        {"median_error_pipeline", accuracy.MedianPipeline()},
+    };
   };
   if (options.json) {
-    fmt::print("{}\n", result.dump());
+    if (by_turn.size() == 1 && by_turn[0].first == 0) {
+      fmt::print("{}\n", to_json(by_turn[0].second).dump());
+    } else {
+      nlohmann::json turns = nlohmann::json::array();
+      for (const auto& [turn, accuracy] : by_turn) {
+        nlohmann::json row = to_json(accuracy);
+        row["turn_deg"] = turn;
+        turns.push_back(row);
+      }
+      fmt::print("{}\n", nlohmann::json{{"by_turn", turns}}.dump());
+    }
     return 0;
   }
   fmt::print("landmark error / outer-eye-corner distance on {}\n", xml.string());
-  fmt::print("  marked faces               {}\n", accuracy.faces);
-  fmt::print("  detected by the pipeline   {} ({:.0f}%)\n", accuracy.detected,
-             accuracy.faces ? 100.0 * accuracy.detected / accuracy.faces : 0.0);
-  fmt::print("  on the marked box          mean {:.4f}  median {:.4f}\n", accuracy.MeanGivenBox(), accuracy.MedianGivenBox());
-  fmt::print("  detection + landmarks      mean {:.4f}  median {:.4f}\n", accuracy.MeanPipeline(), accuracy.MedianPipeline());
+  fmt::print("  {:>8} {:>6} {:>9} {:>22} {:>22}\n", "turn", "faces", "detected", "marked box mean/median",
+             "pipeline mean/median");
+  for (const auto& [turn, accuracy] : by_turn) {
+    const std::string pipeline = accuracy.detected ? fmt::format("{:>13.4f} {:>8.4f}", accuracy.MeanPipeline(), accuracy.MedianPipeline())
+                                                   : fmt::format("{:>22}", "none found");
+    fmt::print("  {:>7.0f}° {:>6} {:>8.0f}% {:>13.4f} {:>8.4f} {}\n", turn, accuracy.faces,
+               accuracy.faces ? 100.0 * accuracy.detected / accuracy.faces : 0.0, accuracy.MeanGivenBox(),
+               accuracy.MedianGivenBox(), pipeline);
+  }
+  fmt::print("  (pipeline: detection + landmarks, over the faces it found; turned photos are turned clockwise as shown)\n");
   return 0;
 }
 
@@ -540,6 +559,10 @@ Command RegisterEvalCommand(CLI::App& root) {
   landmarks->add_option("xml", options->landmarks_xml,
                         "dlib XML with marked faces (default: ../shared/data/dlib-faces/testing_with_face_landmarks.xml)");
   landmarks->add_flag("--json", options->json, "Print one JSON object");
+  landmarks->add_option("--turn", options->landmark_turns,
+                        "Also turn each photo by these angles in degrees first (e.g. 0 30 60 90): tilted faces")
+      ->check(CLI::Range(-180.0, 180.0))
+      ->capture_default_str();
   AddCommonOptions(*landmarks, options->common);
   // What both Columbia evaluations take: the crops, which subjects, the fitter's options.
   auto add_columbia_options = [&options](CLI::App* command) {

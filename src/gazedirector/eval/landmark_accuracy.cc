@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/face/turned_crop.h"
+#include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/statistics.h"
@@ -22,7 +24,7 @@ double NormalisedLandmarkError(const Landmarks68& predicted, const Landmarks68& 
 }
 
 LandmarkAccuracy EvaluateLandmarks(const std::filesystem::path& xml, FaceTracker& tracker,
-                                   const LandmarkDetector& landmark_detector) {
+                                   const LandmarkDetector& landmark_detector, double turn_deg) {
   dlib::image_dataset_metadata::dataset dataset;
   try {
     dlib::image_dataset_metadata::load_image_dataset_metadata(dataset, xml.string());
@@ -30,18 +32,25 @@ LandmarkAccuracy EvaluateLandmarks(const std::filesystem::path& xml, FaceTracker
     Fail(ExitCode::kBadInput, "cannot read {}: {}", xml.string(), e.what());
   }
   LandmarkAccuracy accuracy;
+  const double roll = DegToRad(turn_deg);
   for (const auto& entry : dataset.images) {
-    const cv::Mat image = ReadImage(xml.parent_path() / entry.filename);
+    cv::Mat image = ReadImage(xml.parent_path() / entry.filename);
+    // Content upright in the photo stands at `roll` in a crop turned by -roll.
+    const TurnedCrop turned = TurnedCrop::WholeImage(image.size(), -roll, 1.0);
+    if (roll != 0) image = turned.Cut(image, cv::BORDER_CONSTANT);
+    auto turn = [&](const Eigen::Vector2d& p) { return roll != 0 ? turned.ToCrop(p) : p; };
     cv::Mat gray;
     cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     const std::vector<Face> found = tracker.DetectFaces(image, Camera::Default(image.cols, image.rows));
     for (const auto& box : entry.boxes) {
       if (box.parts.size() != kNumLandmarks) continue;
       Landmarks68 truth;
-      for (const auto& [name, point] : box.parts) truth[std::stoi(name)] = Eigen::Vector2d(point.x(), point.y());
+      for (const auto& [name, point] : box.parts) truth[std::stoi(name)] = turn(Eigen::Vector2d(point.x(), point.y()));
       ++accuracy.faces;
-      const cv::Rect2d marked(box.rect.left(), box.rect.top(), box.rect.width(), box.rect.height());
-      accuracy.given_box_errors.push_back(NormalisedLandmarkError(landmark_detector.Detect(gray, marked), truth));
+      const Eigen::Vector2d centre = turn({box.rect.left() + 0.5 * box.rect.width(), box.rect.top() + 0.5 * box.rect.height()});
+      const cv::Rect2d marked(centre.x() - 0.5 * box.rect.width(), centre.y() - 0.5 * box.rect.height(), box.rect.width(),
+                              box.rect.height());
+      accuracy.given_box_errors.push_back(NormalisedLandmarkError(landmark_detector.Detect(gray, marked, roll), truth));
       // The detected face whose landmarks lie closest to the marked ones.
       double best = 1e9;
       for (const Face& face : found) best = std::min(best, NormalisedLandmarkError(face.landmarks, truth));

@@ -21,8 +21,12 @@ struct LandmarkAccuracy {
   double MedianPipeline() const;
 };
 
+// With `turn_deg`, each photo and its marked points are first turned by that
+// much (clockwise as shown) about the photo's centre, on a canvas that holds
+// the whole turned photo: faces tilted in the image, as a leaning head or a
+// camera held askew shows them. The marked box is then given at that roll.
 LandmarkAccuracy EvaluateLandmarks(const std::filesystem::path& xml, FaceTracker& tracker,
-                                   const LandmarkDetector& landmark_detector);
+                                   const LandmarkDetector& landmark_detector, double turn_deg = 0);
 
 double NormalisedLandmarkError(const Landmarks68& predicted, const Landmarks68& truth);
 

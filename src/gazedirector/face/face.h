@@ -31,6 +31,7 @@ struct HeadPose {
 struct Face {
   int id = 0;
   cv::Rect2d box;           // the face box the landmark predictor was given
+  double box_roll = 0;      // ... turned by this about its centre (radians, see turned_crop.h)
   double confidence = 0;    // in [0, 1]; >= 0.5 when the detector sees a face there
   Landmarks68 landmarks = ZeroLandmarks();
   HeadPose pose;

@@ -8,6 +8,8 @@
 #include <dlib/opencv/cv_image.h>
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/face/turned_crop.h"
+
 namespace gazedirector {
 namespace {
 
@@ -18,6 +20,14 @@ constexpr double kVerifyContext = 0.35;  // margin around the box, as a fraction
 
 cv::Rect2d FromDlib(const dlib::rectangle& r, double scale, const cv::Point2d& offset) {
   return {r.left() / scale + offset.x, r.top() / scale + offset.y, (r.width()) / scale, (r.height()) / scale};
+}
+
+// A detection in an upright crop, back in the image: same centre, the
+// crop's roll, sizes undone of its scale.
+Detection FromCrop(const Detection& d, const TurnedCrop& crop) {
+  const Eigen::Vector2d centre = crop.ToImage({d.box.x + 0.5 * d.box.width, d.box.y + 0.5 * d.box.height});
+  const double w = d.box.width / crop.scale, h = d.box.height / crop.scale;
+  return {{centre.x() - 0.5 * w, centre.y() - 0.5 * h, w, h}, d.score, AngleDifference(crop.roll + d.roll, 0)};
 }
 
 }  // namespace
@@ -60,8 +70,17 @@ std::vector<Detection> FaceDetector::Detect(const cv::Mat& gray, double scale, d
   return impl_->Run(gray, scale, threshold, {0, 0});
 }
 
-Detection FaceDetector::Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold) {
+std::vector<Detection> FaceDetector::DetectTurned(const cv::Mat& gray, double roll, double scale, double threshold) {
   CV_Assert(gray.type() == CV_8UC1);
+  const TurnedCrop crop = TurnedCrop::WholeImage(gray.size(), roll, scale);
+  std::vector<Detection> detections = impl_->Run(crop.Cut(gray, cv::BORDER_CONSTANT), 1.0, threshold, {0, 0});
+  for (Detection& d : detections) d = FromCrop(d, crop);
+  return detections;
+}
+
+Detection FaceDetector::Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold, double roll) {
+  CV_Assert(gray.type() == CV_8UC1);
+  if (roll != 0) return VerifyTurned(gray, box, threshold, roll);
   const double margin = kVerifyContext * std::max(box.width, box.height);
   cv::Rect window(cv::Point(static_cast<int>(std::floor(box.x - margin)), static_cast<int>(std::floor(box.y - margin))),
                   cv::Point(static_cast<int>(std::ceil(box.br().x + margin)), static_cast<int>(std::ceil(box.br().y + margin))));
@@ -72,6 +91,21 @@ Detection FaceDetector::Verify(const cv::Mat& gray, const cv::Rect2d& box, doubl
   const cv::Mat crop = gray(window);
   for (const Detection& d : impl_->Run(crop, scale, threshold, {double(window.x), double(window.y)})) {
     if (IntersectionOverUnion(d.box, box) >= 0.3 && d.score > best.score) best = d;
+  }
+  return best;
+}
+
+Detection FaceDetector::VerifyTurned(const cv::Mat& gray, const cv::Rect2d& box, double threshold, double roll) {
+  const double side = std::max({box.width, box.height, 1.0});
+  const double scale = std::clamp(kVerifyBoxPixels / side, 0.05, 4.0);
+  const int crop_side = static_cast<int>(std::ceil(scale * side * (1 + 2 * kVerifyContext)));
+  const TurnedCrop crop{{box.x + 0.5 * box.width, box.y + 0.5 * box.height}, roll, scale, {crop_side, crop_side}};
+  const double half = 0.5 * (crop_side - 1);
+  const cv::Rect2d upright_box(half - 0.5 * scale * box.width, half - 0.5 * scale * box.height, scale * box.width,
+                               scale * box.height);
+  Detection best{box, -std::numeric_limits<double>::infinity(), roll};
+  for (const Detection& d : impl_->Run(crop.Cut(gray), 1.0, threshold, {0, 0})) {
+    if (IntersectionOverUnion(d.box, upright_box) >= 0.3 && d.score > best.score) best = FromCrop(d, crop);
   }
   return best;
 }

@@ -10,6 +10,7 @@ namespace gazedirector {
 struct Detection {
   cv::Rect2d box;  // in the coordinates of the image given to Detect
   double score = 0;  // the HOG detector's margin; faces score >= 0
+  double roll = 0;   // the face stands upright in `box` turned by `roll` about its centre (turned_crop.h)
 };
 
 // The detector's score mapped to [0, 1]: 0.5 at the detection threshold.
@@ -29,12 +30,20 @@ class FaceDetector {
   // Detections scoring below `threshold` are dropped; best first.
   std::vector<Detection> Detect(const cv::Mat& gray, double scale = 1.0, double threshold = 0.0);
 
+  // Faces that stand upright in the image turned by `roll` (radians, see
+  // turned_crop.h): HOG finds faces up to about 30 degrees from upright, so
+  // searches 45 degrees apart cover every tilt. Best first.
+  std::vector<Detection> DetectTurned(const cv::Mat& gray, double roll, double scale = 1.0, double threshold = 0.0);
+
   // The best score of a face overlapping `box` (IoU >= 0.3), searched in a
   // small window around it: a cheap check that a tracked face is still there.
-  // Returns nullopt-like -infinity when nothing scores above `threshold`.
-  Detection Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold = -1.0);
+  // Its score is -infinity when nothing scores above `threshold`. A tilted
+  // face (`roll`) is searched for in an upright crop.
+  Detection Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold = -1.0, double roll = 0);
 
  private:
+  Detection VerifyTurned(const cv::Mat& gray, const cv::Rect2d& box, double threshold, double roll);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

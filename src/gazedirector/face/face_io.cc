@@ -24,6 +24,7 @@ nlohmann::json ToJson(const Face& face) {
   return {{"face_id", face.id},
           {"confidence", RoundTo(face.confidence, 4)},
           {"box", {RoundTo(face.box.x, 2), RoundTo(face.box.y, 2), RoundTo(face.box.width, 2), RoundTo(face.box.height, 2)}},
+          {"box_roll_deg", RoundTo(RadToDeg(face.box_roll), 2)},
           {"landmarks", landmarks},
           {"head_pose", ToJson(face.pose)}};
 }

@@ -48,6 +48,7 @@ class FaceTracker {
  private:
   // Where the detector's box sits relative to the landmarks it produced:
   // box centre = centroid + spread * offset, box side = spread * size.
+  // The offset is in the face's own frame (turned by the box's roll).
   struct BoxCalibration {
     Eigen::Vector2d offset = Eigen::Vector2d::Zero();
     double size = 0;
@@ -55,6 +56,7 @@ class FaceTracker {
   struct Track {
     int id = 0;
     cv::Rect2d box;
+    double roll = 0;  // the box is turned by this about its centre (turned_crop.h)
     Landmarks68 raw{};
     BoxCalibration calibration;
     double confidence = 0;
@@ -66,8 +68,13 @@ class FaceTracker {
     bool has_pose = false;
   };
 
-  static BoxCalibration Calibrate(const cv::Rect2d& box, const Landmarks68& landmarks);
-  static cv::Rect2d BoxFromLandmarks(const Landmarks68& landmarks, const BoxCalibration& calibration);
+  static BoxCalibration Calibrate(const cv::Rect2d& box, double roll, const Landmarks68& landmarks);
+  static cv::Rect2d BoxFromLandmarks(const Landmarks68& landmarks, const BoxCalibration& calibration, double roll);
+  // The landmarks in `box` turned by `roll`, predicted once more upright to
+  // the face when they show it tilted otherwise; `roll` becomes the one used.
+  Landmarks68 FindLandmarks(const cv::Mat& gray, cv::Rect2d& box, double& roll) const;
+  // Faces standing upright in the image turned 45 and 90 degrees either way.
+  std::vector<Detection> SearchTurned(const cv::Mat& gray, double scale);
   Track StartTrack(const Detection& detection);
   void Smooth(Track& track, double timestamp_s);
   Face ToFace(Track& track, const Camera& camera, bool use_previous_pose);
@@ -80,6 +87,7 @@ class FaceTracker {
   std::vector<Track> tracks_;
   int next_id_ = 0;
   long frames_since_search_ = 0;
+  long frames_since_turned_search_ = -1;  // -1: none yet
 };
 
 // The scale at which whole frames are searched: stills are upsampled up to 2x

@@ -1,5 +1,6 @@
 #include "gazedirector/face/landmark_detector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <vector>
@@ -7,6 +8,7 @@
 #include <dlib/image_processing/shape_predictor.h>
 #include <dlib/opencv/cv_image.h>
 
+#include "gazedirector/face/turned_crop.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -43,8 +45,25 @@ LandmarkDetector::LandmarkDetector(const std::filesystem::path& model_path) : im
 
 LandmarkDetector::~LandmarkDetector() = default;
 
-Landmarks68 LandmarkDetector::Detect(const cv::Mat& gray, const cv::Rect2d& box) const {
+Landmarks68 LandmarkDetector::Detect(const cv::Mat& gray, const cv::Rect2d& box, double roll) const {
   CV_Assert(gray.type() == CV_8UC1);
+  if (roll == 0) return DetectUpright(gray, box);
+  // The trees sample pixels up to about half a box beyond the box; a large
+  // face is cut at no more than kMaxSide pixels across, which keeps the cut cheap.
+  constexpr double kMaxSide = 320;
+  const double side = std::max({box.width, box.height, 1.0});
+  const double scale = std::min(1.0, kMaxSide / side);
+  const int crop_side = static_cast<int>(std::ceil(2 * side * scale));
+  const TurnedCrop crop{{box.x + 0.5 * box.width, box.y + 0.5 * box.height}, roll, scale, {crop_side, crop_side}};
+  const double half = 0.5 * (crop_side - 1);
+  const cv::Rect2d upright_box(half - 0.5 * scale * box.width, half - 0.5 * scale * box.height, scale * box.width,
+                               scale * box.height);
+  Landmarks68 landmarks = DetectUpright(crop.Cut(gray), upright_box);
+  for (auto& p : landmarks) p = crop.ToImage(p);
+  return landmarks;
+}
+
+Landmarks68 LandmarkDetector::DetectUpright(const cv::Mat& gray, const cv::Rect2d& box) const {
   const dlib::cv_image<unsigned char> image(gray);
   const dlib::rectangle rect(std::lround(box.x), std::lround(box.y), std::lround(box.x + box.width - 1),
                              std::lround(box.y + box.height - 1));

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/geometry/rotation.h"
+
 namespace gazedirector {
 namespace {
 
@@ -28,7 +30,14 @@ void DrawFace(cv::Mat& image, const Face& face, const Camera& camera) {
   const double size = std::max(face.box.width, 20.0);
   const int thickness = std::max(1, static_cast<int>(size / 200));
   const cv::Scalar green(80, 220, 80), white(255, 255, 255);
-  cv::rectangle(image, face.box, cv::Scalar(255, 180, 0), thickness, cv::LINE_AA);
+  const cv::RotatedRect box({static_cast<float>(face.box.x + 0.5 * face.box.width), static_cast<float>(face.box.y + 0.5 * face.box.height)},
+                            {static_cast<float>(face.box.width), static_cast<float>(face.box.height)},
+                            static_cast<float>(RadToDeg(face.box_roll)));
+  std::array<cv::Point2f, 4> corners;
+  box.points(corners.data());
+  std::vector<cv::Point> outline;
+  for (const cv::Point2f& corner : corners) outline.push_back(corner * 16);
+  cv::polylines(image, outline, true, cv::Scalar(255, 180, 0), thickness, cv::LINE_AA, 4);
   for (const Contour& c : kContours) {
     std::vector<cv::Point> points;
     for (int i = c.first; i <= c.last; ++i) points.push_back(ToPoint(face.landmarks[i]) * 16);
@@ -53,7 +62,8 @@ void DrawFace(cv::Mat& image, const Face& face, const Camera& camera) {
   }
   const std::string label = fmt::format("face {}  {:.2f}", face.id, face.confidence);
   const double font = std::clamp(size / 400, 0.3, 2.0);
-  cv::putText(image, label, cv::Point(static_cast<int>(face.box.x), static_cast<int>(face.box.y - 4 - size / 100)),
+  const cv::Rect bounds = box.boundingRect();
+  cv::putText(image, label, cv::Point(bounds.x, static_cast<int>(bounds.y - 4 - size / 100)),
               cv::FONT_HERSHEY_SIMPLEX, font, white, thickness, cv::LINE_AA);
 }
 
