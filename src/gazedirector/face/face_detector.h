@@ -31,8 +31,7 @@ class FaceDetector {
   std::vector<Detection> Detect(const cv::Mat& gray, double scale = 1.0, double threshold = 0.0);
 
   // Faces that stand upright in the image turned by `roll` (radians, see
-  // turned_crop.h): HOG finds faces up to about 30 degrees from upright, so
-  // searches 45 degrees apart cover every tilt. Best first.
+  // turned_crop.h). Best first.
   std::vector<Detection> DetectTurned(const cv::Mat& gray, double roll, double scale = 1.0, double threshold = 0.0);
 
   // The best score of a face overlapping `box` (IoU >= 0.3), searched in a

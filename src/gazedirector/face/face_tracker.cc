@@ -42,7 +42,11 @@ constexpr double kUprightRoll = DegToRad(15.0);
 // Landmarks are predicted again when they show a tilt this far from the one
 // they were predicted at.
 constexpr double kRollTolerance = DegToRad(5.0);
-constexpr std::array<double, 4> kTurnedSearchRolls = {DegToRad(45.0), DegToRad(-45.0), DegToRad(90.0), DegToRad(-90.0)};
+// HOG finds faces within about 30 degrees of upright, so searches 45 degrees
+// apart cover every tilt. Faces upside down are rare (a phone held so marks
+// its picture): those searches run only where the others found nothing.
+constexpr std::array<double, 4> kTiltedRolls = {DegToRad(45.0), DegToRad(-45.0), DegToRad(90.0), DegToRad(-90.0)};
+constexpr std::array<double, 3> kUpsideDownRolls = {DegToRad(135.0), DegToRad(-135.0), DegToRad(180.0)};
 
 // Two detections of one face, or of a face and a part of it (a nose and its
 // nostrils turned a quarter look like a small face): they overlap, or one
@@ -121,9 +125,9 @@ Landmarks68 FaceTracker::FindLandmarks(const cv::Mat& gray, cv::Rect2d& box, dou
   return landmarks;
 }
 
-std::vector<Detection> FaceTracker::SearchTurned(const cv::Mat& gray, double scale) {
+std::vector<Detection> FaceTracker::SearchTurned(const cv::Mat& gray, double scale, std::span<const double> rolls) {
   std::vector<Detection> found;
-  for (double roll : kTurnedSearchRolls) {
+  for (double roll : rolls) {
     // A face between two searches' rolls may be found by both.
     for (const Detection& d : detector_.DetectTurned(gray, roll, scale)) MergeDetection(found, d);
   }
@@ -138,7 +142,8 @@ std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& cam
   // A still is searched turned too (it costs about half a second on a 2,000 px
   // photo): HOG finds some faces tilted 30-45 degrees upright, but the turned
   // search that finds the same face scores it better and tells its tilt.
-  for (const Detection& turned : SearchTurned(gray, scale)) MergeDetection(detections, turned);
+  for (const Detection& turned : SearchTurned(gray, scale, kTiltedRolls)) MergeDetection(detections, turned);
+  if (detections.empty()) detections = SearchTurned(gray, scale, kUpsideDownRolls);
   if (detections.empty()) {
     // HOG scores some real faces (glasses, a frown, hair over the brows: d8.jpg
     // at -0.3 to -0.5) below its usual threshold of 0. A photo with nothing
@@ -194,11 +199,12 @@ std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s
     const double scale = VideoDetectionScale(gray_.cols, gray_.rows);
     detections = detector_.Detect(gray_, scale);
     // With no face in sight, tilted faces are searched for too, but only as
-    // often as new faces are: that search costs four upright ones.
+    // often as new faces are: that search costs four to seven upright ones.
     if (detections.empty() && tracks_.empty() &&
         (frames_since_turned_search_ < 0 || frames_since_turned_search_ >= options_.search_interval)) {
       frames_since_turned_search_ = 0;
-      detections = SearchTurned(gray_, scale);
+      detections = SearchTurned(gray_, scale, kTiltedRolls);
+      if (detections.empty()) detections = SearchTurned(gray_, scale, kUpsideDownRolls);
     }
   }
   if (frames_since_turned_search_ >= 0) ++frames_since_turned_search_;

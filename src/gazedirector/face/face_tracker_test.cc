@@ -61,7 +61,7 @@ TEST(FaceTrackerTest, FindsAndLandmarksFacesTiltedInThePhotoAtAnyAngle) {
   ASSERT_EQ(still.faces.size(), 1u);
   const Face& upright = still.faces[0];
   EXPECT_EQ(upright.box_roll, 0.0);
-  for (double turn : {30.0, -45.0, 60.0, 90.0, -100.0}) {
+  for (double turn : {30.0, -45.0, 60.0, 90.0, -100.0, 140.0, 180.0}) {
     const testing::TurnedPhoto turned = testing::TurnPhoto(still.image, turn);
     const std::vector<Face> faces =
         MakeFaceTracker().DetectFaces(turned.image, Camera::Default(turned.image.cols, turned.image.rows));
