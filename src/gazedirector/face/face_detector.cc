@@ -104,7 +104,7 @@ Detection FaceDetector::VerifyTurned(const cv::Mat& gray, const cv::Rect2d& box,
   const cv::Rect2d upright_box(half - 0.5 * scale * box.width, half - 0.5 * scale * box.height, scale * box.width,
                                scale * box.height);
   Detection best{box, -std::numeric_limits<double>::infinity(), roll};
-  for (const Detection& d : impl_->Run(crop.Cut(gray), 1.0, threshold, {0, 0})) {
+  for (const Detection& d : impl_->Run(crop.Cut(gray, cv::BORDER_CONSTANT), 1.0, threshold, {0, 0})) {
     if (IntersectionOverUnion(d.box, upright_box) >= 0.3 && d.score > best.score) best = FromCrop(d, crop);
   }
   return best;
