@@ -96,13 +96,9 @@ Detection FaceDetector::Verify(const cv::Mat& gray, const cv::Rect2d& box, doubl
 }
 
 Detection FaceDetector::VerifyTurned(const cv::Mat& gray, const cv::Rect2d& box, double threshold, double roll) {
-  const double side = std::max({box.width, box.height, 1.0});
-  const double scale = std::clamp(kVerifyBoxPixels / side, 0.05, 4.0);
-  const int crop_side = static_cast<int>(std::ceil(scale * side * (1 + 2 * kVerifyContext)));
-  const TurnedCrop crop{{box.x + 0.5 * box.width, box.y + 0.5 * box.height}, roll, scale, {crop_side, crop_side}};
-  const double half = 0.5 * (crop_side - 1);
-  const cv::Rect2d upright_box(half - 0.5 * scale * box.width, half - 0.5 * scale * box.height, scale * box.width,
-                               scale * box.height);
+  const double scale = std::clamp(kVerifyBoxPixels / std::max({box.width, box.height, 1.0}), 0.05, 4.0);
+  const TurnedCrop crop = TurnedCrop::AroundBox(box, roll, scale, 1 + 2 * kVerifyContext);
+  const cv::Rect2d upright_box = crop.BoxInCrop(box);
   Detection best{box, -std::numeric_limits<double>::infinity(), roll};
   for (const Detection& d : impl_->Run(crop.Cut(gray, cv::BORDER_CONSTANT), 1.0, threshold, {0, 0})) {
     if (IntersectionOverUnion(d.box, upright_box) >= 0.3 && d.score > best.score) best = FromCrop(d, crop);

@@ -71,8 +71,12 @@ TEST(FaceTrackerTest, FindsAndLandmarksFacesTiltedInThePhotoAtAnyAngle) {
     // The box stands upright to the face (within the tolerance a landmark
     // roll is taken at, or upright where the predictor reads the face as is).
     const double tilt = LandmarkRoll(faces[0].landmarks);
-    if (faces[0].box_roll != 0) EXPECT_LT(std::abs(AngleDifference(faces[0].box_roll, tilt)), DegToRad(5.5)) << turn;
-    if (std::abs(turn) >= 45) EXPECT_NE(faces[0].box_roll, 0.0) << turn;
+    if (faces[0].box_roll != 0) {
+      EXPECT_LT(std::abs(AngleDifference(faces[0].box_roll, tilt)), DegToRad(5.5)) << turn;
+    }
+    if (std::abs(turn) >= 45) {
+      EXPECT_NE(faces[0].box_roll, 0.0) << turn;
+    }
   }
 }
 

@@ -51,14 +51,9 @@ Landmarks68 LandmarkDetector::Detect(const cv::Mat& gray, const cv::Rect2d& box,
   // The trees sample pixels up to about half a box beyond the box; a large
   // face is cut at no more than kMaxSide pixels across, which keeps the cut cheap.
   constexpr double kMaxSide = 320;
-  const double side = std::max({box.width, box.height, 1.0});
-  const double scale = std::min(1.0, kMaxSide / side);
-  const int crop_side = static_cast<int>(std::ceil(2 * side * scale));
-  const TurnedCrop crop{{box.x + 0.5 * box.width, box.y + 0.5 * box.height}, roll, scale, {crop_side, crop_side}};
-  const double half = 0.5 * (crop_side - 1);
-  const cv::Rect2d upright_box(half - 0.5 * scale * box.width, half - 0.5 * scale * box.height, scale * box.width,
-                               scale * box.height);
-  Landmarks68 landmarks = DetectUpright(crop.Cut(gray), upright_box);
+  const double scale = std::min(1.0, kMaxSide / std::max({box.width, box.height, 1.0}));
+  const TurnedCrop crop = TurnedCrop::AroundBox(box, roll, scale, 2.0);
+  Landmarks68 landmarks = DetectUpright(crop.Cut(gray), crop.BoxInCrop(box));
   for (auto& p : landmarks) p = crop.ToImage(p);
   return landmarks;
 }

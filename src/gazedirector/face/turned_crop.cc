@@ -1,5 +1,6 @@
 #include "gazedirector/face/turned_crop.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
@@ -35,6 +36,17 @@ TurnedCrop TurnedCrop::WholeImage(cv::Size image_size, double roll, double scale
   const cv::Size size(static_cast<int>(std::ceil(scale * (w * c + h * s))),
                       static_cast<int>(std::ceil(scale * (w * s + h * c))));
   return {{0.5 * (w - 1), 0.5 * (h - 1)}, roll, scale, size};
+}
+
+TurnedCrop TurnedCrop::AroundBox(const cv::Rect2d& box, double roll, double scale, double extent) {
+  const int side = static_cast<int>(std::ceil(extent * scale * std::max({box.width, box.height, 1.0})));
+  return {{box.x + 0.5 * box.width, box.y + 0.5 * box.height}, roll, scale, {side, side}};
+}
+
+cv::Rect2d TurnedCrop::BoxInCrop(const cv::Rect2d& box) const {
+  const Eigen::Vector2d centre = ToCrop({box.x + 0.5 * box.width, box.y + 0.5 * box.height});
+  const double w = scale * box.width, h = scale * box.height;
+  return {centre.x() - 0.5 * w, centre.y() - 0.5 * h, w, h};
 }
 
 Eigen::Vector2d TurnedCrop::ToImage(const Eigen::Vector2d& crop_point) const {

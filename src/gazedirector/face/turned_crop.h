@@ -33,6 +33,12 @@ struct TurnedCrop {
 
   // The smallest crop that holds the whole image turned by `roll`.
   static TurnedCrop WholeImage(cv::Size image_size, double roll, double scale);
+  // A square crop centred on `box`, `extent` times its larger side across.
+  static TurnedCrop AroundBox(const cv::Rect2d& box, double roll, double scale, double extent);
+
+  // An image box as it stands in the crop (same centre, sizes scaled): the
+  // box turned by `roll` about its centre, made upright.
+  cv::Rect2d BoxInCrop(const cv::Rect2d& box) const;
 
   Eigen::Vector2d ToImage(const Eigen::Vector2d& crop_point) const;
   Eigen::Vector2d ToCrop(const Eigen::Vector2d& image_point) const;

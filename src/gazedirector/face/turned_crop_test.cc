@@ -24,6 +24,17 @@ TEST(TurnedCropTest, MapsBetweenImageAndCropBothWays) {
   EXPECT_NEAR(step.norm(), 1 / 0.6, 1e-9);
 }
 
+TEST(TurnedCropTest, CentresACropOnABoxThatStandsUprightInIt) {
+  const cv::Rect2d box(40.0, 60.0, 120.0, 100.0);
+  const TurnedCrop crop = TurnedCrop::AroundBox(box, DegToRad(-70.0), 0.5, 2.0);
+  EXPECT_EQ(crop.size, cv::Size(120, 120));
+  const cv::Rect2d inside = crop.BoxInCrop(box);
+  EXPECT_NEAR(inside.x + 0.5 * inside.width, 59.5, 1e-9);
+  EXPECT_NEAR(inside.y + 0.5 * inside.height, 59.5, 1e-9);
+  EXPECT_NEAR(inside.width, 60.0, 1e-9);
+  EXPECT_NEAR(inside.height, 50.0, 1e-9);
+}
+
 TEST(TurnedCropTest, CutsThePixelsItMapsTo) {
   cv::Mat gray;
   cv::cvtColor(ReadImage(testing::DataPath("images/s42.jpg")), gray, cv::COLOR_BGR2GRAY);
