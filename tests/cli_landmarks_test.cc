@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "tests/test_data.h"
 
@@ -138,6 +140,39 @@ TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
              &probe);
   EXPECT_NE(probe.find("video,250"), std::string::npos) << probe;
   EXPECT_NE(probe.find("audio"), std::string::npos) << probe;
+}
+
+// A portrait saved a quarter turned (a phone held sideways, nothing in the
+// file to say so) is found, and its box is reported turned with it.
+TEST(CliLandmarksTest, ReportsATiltedFaceWithItsTurnedBox) {
+  const fs::path dir = ScratchDir("cli_landmarks_tilted");
+  cv::Mat turned;
+  cv::rotate(cv::imread(DataPath("images/s42.jpg").string()), turned, cv::ROTATE_90_COUNTERCLOCKWISE);
+  ASSERT_TRUE(cv::imwrite((dir / "turned.png").string(), turned));
+  std::string output;
+  ASSERT_EQ(RunCli("landmarks " + Quote(dir / "turned.png") + " -o " + Quote(dir / "out.json"), &output), 0) << output;
+  const nlohmann::json document = nlohmann::json::parse(ReadText(dir / "out.json"));
+  ASSERT_EQ(document["faces"].size(), 1u);
+  // Counter-clockwise as shown is a negative roll; s42's own tilt is a few degrees.
+  EXPECT_NEAR(document["faces"][0]["box_roll_deg"].get<double>(), -90.0, 10.0);
+  EXPECT_GT(document["faces"][0]["confidence"].get<double>(), 0.9);
+}
+
+// `eval landmarks --turn` prints one row per turn; --json gives them under
+// by_turn, while the plain evaluation keeps its flat object.
+TEST(CliLandmarksTest, EvalLandmarksReportsEachTurn) {
+  std::string output;
+  ASSERT_EQ(RunCli("eval landmarks --turn 0 90 --json", &output), 0) << output;
+  const nlohmann::json result = nlohmann::json::parse(Lines(output).back());
+  ASSERT_EQ(result["by_turn"].size(), 2u);
+  for (const nlohmann::json& row : result["by_turn"]) {
+    EXPECT_EQ(row["faces"].get<int>(), 25);
+    EXPECT_GE(row["detected"].get<int>(), 24) << row.dump();
+    EXPECT_LT(row["mean_error_pipeline"].get<double>(), 0.03) << row.dump();
+  }
+  EXPECT_EQ(result["by_turn"][1]["turn_deg"].get<double>(), 90.0);
+  ASSERT_EQ(RunCli("eval landmarks --json", &output), 0) << output;
+  EXPECT_TRUE(nlohmann::json::parse(Lines(output).back()).contains("mean_error_pipeline"));
 }
 
 }  // namespace
