@@ -241,9 +241,8 @@ std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s
   // New faces.
   for (std::size_t d = 0; d < detections.size(); ++d) {
     if (used[d]) continue;
-    const bool overlaps = std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& track) {
-      return IntersectionOverUnion(track.box, detections[d].box) > 0.3;
-    });
+    const bool overlaps = std::any_of(tracks_.begin(), tracks_.end(),
+                                      [&](const Track& track) { return SameFace(track.box, detections[d].box); });
     if (!overlaps) tracks_.push_back(StartTrack(detections[d]));
   }
   // Two tracks that converged on one face: keep the older.
