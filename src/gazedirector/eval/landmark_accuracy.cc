@@ -47,9 +47,8 @@ LandmarkAccuracy EvaluateLandmarks(const std::filesystem::path& xml, FaceTracker
       Landmarks68 truth;
       for (const auto& [name, point] : box.parts) truth[std::stoi(name)] = turn(Eigen::Vector2d(point.x(), point.y()));
       ++accuracy.faces;
-      const Eigen::Vector2d centre = turn({box.rect.left() + 0.5 * box.rect.width(), box.rect.top() + 0.5 * box.rect.height()});
-      const cv::Rect2d marked(centre.x() - 0.5 * box.rect.width(), centre.y() - 0.5 * box.rect.height(), box.rect.width(),
-                              box.rect.height());
+      const cv::Rect2d rect(box.rect.left(), box.rect.top(), box.rect.width(), box.rect.height());
+      const cv::Rect2d marked = roll != 0 ? turned.BoxInCrop(rect) : rect;
       accuracy.given_box_errors.push_back(NormalisedLandmarkError(landmark_detector.Detect(gray, marked, roll), truth));
       // The detected face whose landmarks lie closest to the marked ones.
       double best = 1e9;

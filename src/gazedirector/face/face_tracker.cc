@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 
+#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/face/head_pose.h"
@@ -69,11 +71,6 @@ void MergeDetection(std::vector<Detection>& found, const Detection& detection) {
 
 double PredictionRoll(double shown_roll) { return std::abs(shown_roll) < kUprightRoll ? 0.0 : shown_roll; }
 
-Eigen::Vector2d Turn(const Eigen::Vector2d& v, double roll) {
-  const double c = std::cos(roll), s = std::sin(roll);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
-
 }  // namespace
 
 double StillDetectionScale(int width, int height) {
@@ -98,13 +95,13 @@ FaceTracker::BoxCalibration FaceTracker::Calibrate(const cv::Rect2d& box, double
   const Eigen::Vector2d centroid = Centroid(landmarks);
   const double spread = std::max(Spread(landmarks, centroid), 1e-6);
   const Eigen::Vector2d box_centre(box.x + 0.5 * box.width, box.y + 0.5 * box.height);
-  return {Turn((box_centre - centroid) / spread, -roll), box.width / spread};
+  return {Eigen::Rotation2Dd(-roll) * ((box_centre - centroid) / spread), box.width / spread};
 }
 
 cv::Rect2d FaceTracker::BoxFromLandmarks(const Landmarks68& landmarks, const BoxCalibration& calibration, double roll) {
   const Eigen::Vector2d centroid = Centroid(landmarks);
   const double spread = Spread(landmarks, centroid);
-  const Eigen::Vector2d centre = centroid + spread * Turn(calibration.offset, roll);
+  const Eigen::Vector2d centre = centroid + spread * (Eigen::Rotation2Dd(roll) * calibration.offset);
   const double side = spread * calibration.size;
   return {centre.x() - 0.5 * side, centre.y() - 0.5 * side, side, side};
 }
@@ -125,14 +122,18 @@ Landmarks68 FaceTracker::FindLandmarks(const cv::Mat& gray, cv::Rect2d& box, dou
   return landmarks;
 }
 
-std::vector<Detection> FaceTracker::SearchTurned(const cv::Mat& gray, double scale, std::span<const double> rolls) {
-  std::vector<Detection> found;
-  for (double roll : rolls) {
-    // A face between two searches' rolls may be found by both.
-    for (const Detection& d : detector_.DetectTurned(gray, roll, scale)) MergeDetection(found, d);
-  }
-  std::sort(found.begin(), found.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
-  return found;
+void FaceTracker::AddTurnedDetections(const cv::Mat& gray, double scale, std::vector<Detection>& detections) {
+  // A face between two searches' rolls may be found by both, and a face
+  // tilted 30-45 degrees by the upright search too: MergeDetection keeps the
+  // better-scoring detection, which tells the tilt better.
+  auto search = [&](std::span<const double> rolls) {
+    for (double roll : rolls) {
+      for (const Detection& d : detector_.DetectTurned(gray, roll, scale)) MergeDetection(detections, d);
+    }
+  };
+  search(kTiltedRolls);
+  if (detections.empty()) search(kUpsideDownRolls);
+  std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
 }
 
 std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& camera) {
@@ -142,8 +143,7 @@ std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& cam
   // A still is searched turned too (it costs about half a second on a 2,000 px
   // photo): HOG finds some faces tilted 30-45 degrees upright, but the turned
   // search that finds the same face scores it better and tells its tilt.
-  for (const Detection& turned : SearchTurned(gray, scale, kTiltedRolls)) MergeDetection(detections, turned);
-  if (detections.empty()) detections = SearchTurned(gray, scale, kUpsideDownRolls);
+  AddTurnedDetections(gray, scale, detections);
   if (detections.empty()) {
     // HOG scores some real faces (glasses, a frown, hair over the brows: d8.jpg
     // at -0.3 to -0.5) below its usual threshold of 0. A photo with nothing
@@ -203,8 +203,7 @@ std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s
     if (detections.empty() && tracks_.empty() &&
         (frames_since_turned_search_ < 0 || frames_since_turned_search_ >= options_.search_interval)) {
       frames_since_turned_search_ = 0;
-      detections = SearchTurned(gray_, scale, kTiltedRolls);
-      if (detections.empty()) detections = SearchTurned(gray_, scale, kUpsideDownRolls);
+      AddTurnedDetections(gray_, scale, detections);
     }
   }
   if (frames_since_turned_search_ >= 0) ++frames_since_turned_search_;

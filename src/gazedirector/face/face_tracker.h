@@ -1,7 +1,6 @@
 #pragma once
 
 #include <memory>
-#include <span>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -74,8 +73,10 @@ class FaceTracker {
   // The landmarks in `box` turned by `roll`, predicted once more upright to
   // the face when they show it tilted otherwise; `roll` becomes the one used.
   Landmarks68 FindLandmarks(const cv::Mat& gray, cv::Rect2d& box, double& roll) const;
-  // Faces standing upright in the image turned by each of `rolls`.
-  std::vector<Detection> SearchTurned(const cv::Mat& gray, double scale, std::span<const double> rolls);
+  // Adds the faces standing upright in the image turned 45 and 90 degrees
+  // either way to `detections`, and where there are none at all, those of the
+  // image turned upside down (135 and 180 degrees); best first.
+  void AddTurnedDetections(const cv::Mat& gray, double scale, std::vector<Detection>& detections);
   Track StartTrack(const Detection& detection);
   void Smooth(Track& track, double timestamp_s);
   Face ToFace(Track& track, const Camera& camera, bool use_previous_pose);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/geometry/rotation.h"
@@ -50,15 +51,11 @@ cv::Rect2d TurnedCrop::BoxInCrop(const cv::Rect2d& box) const {
 }
 
 Eigen::Vector2d TurnedCrop::ToImage(const Eigen::Vector2d& crop_point) const {
-  const Eigen::Vector2d q = (crop_point - CropCentre(size)) / scale;
-  const double c = std::cos(roll), s = std::sin(roll);
-  return {centre.x + c * q.x() - s * q.y(), centre.y + s * q.x() + c * q.y()};
+  return Eigen::Vector2d(centre.x, centre.y) + Eigen::Rotation2Dd(roll) * ((crop_point - CropCentre(size)) / scale);
 }
 
 Eigen::Vector2d TurnedCrop::ToCrop(const Eigen::Vector2d& image_point) const {
-  const Eigen::Vector2d d(image_point.x() - centre.x, image_point.y() - centre.y);
-  const double c = std::cos(roll), s = std::sin(roll);
-  return CropCentre(size) + scale * Eigen::Vector2d(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
+  return CropCentre(size) + scale * (Eigen::Rotation2Dd(-roll) * (image_point - Eigen::Vector2d(centre.x, centre.y)));
 }
 
 cv::Mat TurnedCrop::Cut(const cv::Mat& image, int border) const {
