@@ -142,6 +142,35 @@ TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
   EXPECT_NE(probe.find("audio"), std::string::npos) << probe;
 }
 
+// A variable-rate video (as phones and screen recorders write) keeps each
+// frame's time in the fits and in the overlay, which holds frames over the
+// sparse stretches instead of squeezing all frames to the average rate.
+TEST(CliLandmarksTest, AVariableRateVideosFramesKeepTheirTimes) {
+  const fs::path dir = ScratchDir("cli_landmarks_vfr");
+  // d19 at 30 fps: every 3rd frame of the first second, all of the second, every 3rd of the third.
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/d19.mp4")) +
+                       " -t 3 -vf \"select='not(mod(n\\,3))+between(n\\,30\\,59)'\" -vsync vfr " + Quote(dir / "vfr.mp4")),
+            0);
+  std::string output;
+  ASSERT_EQ(RunCli("landmarks " + Quote(dir / "vfr.mp4") + " -o " + Quote(dir / "vfr.jsonl") + " --overlay " +
+                       Quote(dir / "overlay.mp4"),
+                   &output),
+            0)
+      << output;
+  const std::vector<std::string> lines = Lines(ReadText(dir / "vfr.jsonl"));
+  ASSERT_EQ(lines.size(), 50u);
+  EXPECT_NEAR(nlohmann::json::parse(lines[9])["timestamp"].get<double>(), 0.9, 1e-3);
+  EXPECT_NEAR(nlohmann::json::parse(lines[11])["timestamp"].get<double>(), 31 / 30.0, 1e-3);
+  EXPECT_NEAR(nlohmann::json::parse(lines[49])["timestamp"].get<double>(), 87 / 30.0, 1e-3);
+
+  std::string probe;
+  RunCommand("ffprobe -v error -count_frames -show_entries stream=codec_type,r_frame_rate,nb_read_frames -of csv=p=0 " +
+                 Quote(dir / "overlay.mp4"),
+             &probe);
+  EXPECT_NE(probe.find("video,30/1,88"), std::string::npos) << probe;  // source frames 0 to 87 at 30 fps
+  EXPECT_NE(probe.find("audio"), std::string::npos) << probe;
+}
+
 // A portrait saved a quarter turned (a phone held sideways, nothing in the
 // file to say so) is found, and its box is reported turned with it.
 TEST(CliLandmarksTest, ReportsATiltedFaceWithItsTurnedBox) {

@@ -77,7 +77,8 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
   if (!options.csv.empty()) csv.emplace(options.csv, FaceCsvColumns(), inputs);
   std::optional<VideoWriter> overlay;
   if (!options.overlay.empty()) {
-    overlay.emplace(options.overlay, VideoWriterOptions{info.width, info.height, info.frame_rate, options.input}, inputs);
+    const VideoWriterOptions writing{info.width, info.height, SteadyFrameRate(options.input, info), options.input};
+    overlay.emplace(options.overlay, writing, inputs);
   }
 
   Progress progress("landmarks", info.frame_count, "frames", options.common.quiet);
@@ -89,7 +90,8 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
     const std::vector<Face> faces = tracker.TrackFrame(frame, timestamp, camera);
     frames_with_faces += faces.empty() ? 0 : 1;
 
-    nlohmann::json line = {{"frame", reader.frame_index()}, {"timestamp", timestamp}, {"faces", nlohmann::json::array()}};
+    nlohmann::json line = {
+        {"frame", reader.frame_index()}, {"timestamp", RoundTo(timestamp, 4)}, {"faces", nlohmann::json::array()}};
     if (reader.frame_index() == 0) line["camera"] = ToJson(camera);
     for (const Face& face : faces) line["faces"].push_back(ToJson(face));
     json.stream() << line.dump() << '\n';
@@ -99,7 +101,7 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
     }
     if (overlay) {
       for (const Face& face : faces) DrawFace(frame, face, camera);
-      overlay->Write(frame);
+      overlay->Write(frame, timestamp);
     }
     progress.Update(reader.frame_index() + 1);
   }

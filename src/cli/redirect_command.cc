@@ -229,24 +229,22 @@ bool CacheMatches(const std::filesystem::path& fits_path, const std::filesystem:
 // Per face and frame, how much of the redirection to apply: 0 while an eye
 // is closed (blinks are kept as they were), easing back to 1 over
 // `handover_s` on either side.
-std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, double frame_rate, double handover_s,
-                                                         double closed_deg) {
-  std::map<int, std::vector<long>> closed_frames;
+std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, double handover_s, double closed_deg) {
+  std::map<int, std::vector<double>> closed_times;  // by face, in frame order
   for (const auto& [index, frame] : fits.frames) {
     for (const StoredFit& fit : frame.faces) {
-      if (fit.eyes_closed || fit.phi.eyelid_closure() > closed_deg) closed_frames[fit.face_id].push_back(index);
+      if (fit.eyes_closed || fit.phi.eyelid_closure() > closed_deg) closed_times[fit.face_id].push_back(frame.timestamp_s);
     }
   }
   std::map<long, std::map<int, double>> weights;
-  const double handover_frames = std::max(1.0, handover_s * frame_rate);
   for (const auto& [index, frame] : fits.frames) {
     for (const StoredFit& fit : frame.faces) {
       double nearest = 1e9;
-      const std::vector<long>& closed = closed_frames[fit.face_id];
-      auto it = std::lower_bound(closed.begin(), closed.end(), index);
-      if (it != closed.end()) nearest = std::min(nearest, static_cast<double>(*it - index));
-      if (it != closed.begin()) nearest = std::min(nearest, static_cast<double>(index - *std::prev(it)));
-      const double t = std::clamp(nearest / handover_frames, 0.0, 1.0);
+      const std::vector<double>& closed = closed_times[fit.face_id];
+      auto it = std::lower_bound(closed.begin(), closed.end(), frame.timestamp_s);
+      if (it != closed.end()) nearest = std::min(nearest, *it - frame.timestamp_s);
+      if (it != closed.begin()) nearest = std::min(nearest, frame.timestamp_s - *std::prev(it));
+      const double t = std::clamp(nearest / handover_s, 0.0, 1.0);
       weights[index][fit.face_id] = t * t * (3 - 2 * t);
     }
   }
@@ -285,13 +283,13 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
     }
   }
   RequireFitsOfSize(fits, info.width, info.height);
-  const double frame_rate = info.frame_rate.value();
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
-  const auto weights = RedirectionWeights(fits, frame_rate, 0.15, 0.5 * redirect_options.max_closure_deg);
+  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg);
 
   // Stage 2: re-render every frame.
   const int out_width = options.side_by_side ? 2 * info.width : info.width;
-  VideoWriter writer(options.output, VideoWriterOptions{out_width, info.height, info.frame_rate, options.input}, inputs);
+  const VideoWriterOptions writing{out_width, info.height, SteadyFrameRate(options.input, info), options.input};
+  VideoWriter writer(options.output, writing, inputs);
   Redirector redirector(setup.model, redirect_options);
   std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
   Progress progress("redirect", info.frame_count, "frames", options.common.quiet);
@@ -323,7 +321,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
       }
     }
     redirected_frames += any ? 1 : 0;
-    writer.Write(options.side_by_side ? SideBySide(frame, result) : result);
+    writer.Write(options.side_by_side ? SideBySide(frame, result) : result, time);
     progress.Update(index + 1);
   }
   progress.Finish();

@@ -131,7 +131,8 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
   if (!options.csv.empty()) csv.emplace(options.csv, FitCsvColumns(), inputs);
   std::optional<VideoWriter> overlay;
   if (!options.overlay.empty()) {
-    overlay.emplace(options.overlay, VideoWriterOptions{info.width, info.height, info.frame_rate, options.input}, inputs);
+    const VideoWriterOptions writing{info.width, info.height, SteadyFrameRate(options.input, info), options.input};
+    overlay.emplace(options.overlay, writing, inputs);
   }
   Renderer renderer(setup.model);
   Progress progress("track", info.frame_count, "frames", options.common.quiet);
@@ -151,7 +152,7 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
     }
     if (overlay) {
       for (const FaceFit& fit : fits) DrawFit(frame, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
-      overlay->Write(frame);
+      overlay->Write(frame, timestamp);
     }
     progress.Update(index + 1);
   }

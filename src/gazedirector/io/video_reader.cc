@@ -1,7 +1,14 @@
 #include "gazedirector/io/video_reader.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
@@ -9,6 +16,7 @@
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/media.h"
 #include "gazedirector/util/error.h"
+#include "gazedirector/util/subprocess.h"
 
 namespace gazedirector {
 
@@ -76,11 +84,62 @@ bool VideoReader::Read(cv::Mat& frame) {
     default: break;
   }
   ++frame_index_;
+  // Decoders flush their last frames without a time (OpenCV then states 0):
+  // those, and any time that does not move forward, follow at the last step.
+  const double stated = capture_->get(cv::CAP_PROP_POS_MSEC) / 1000;
+  if (frame_index_ == 0) {
+    timestamp_s_ = std::isfinite(stated) ? std::max(stated, 0.0) : 0.0;
+    last_step_s_ = 1 / info_.frame_rate.value();
+  } else if (std::isfinite(stated) && stated > timestamp_s_) {
+    last_step_s_ = stated - timestamp_s_;
+    timestamp_s_ = stated;
+  } else {
+    timestamp_s_ += last_step_s_;
+  }
   return true;
 }
 
 bool VideoReader::EndedEarly() const {
   return ended_ && info_.frame_count > 0 && frame_index_ + 1 < info_.frame_count - 1;
+}
+
+namespace {
+
+// The video stream's packet times in seconds, in presentation order.
+std::vector<double> ProbeFrameTimes(const std::filesystem::path& video) {
+  if (!ProgramExists("ffprobe")) return {};
+  const std::optional<std::string> output =
+      RunForOutput({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries", "packet=pts_time", "-of",
+                    "csv=p=0", video.string()});
+  std::vector<double> times;
+  if (!output) return times;
+  std::istringstream lines(*output);
+  std::string line;
+  while (std::getline(lines, line)) {
+    char* end = nullptr;
+    const double time = std::strtod(line.c_str(), &end);
+    if (end != line.c_str() && std::isfinite(time)) times.push_back(time);
+  }
+  std::sort(times.begin(), times.end());
+  return times;
+}
+
+}  // namespace
+
+FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info) {
+  constexpr std::size_t kStretch = 10;  // frames: shorter bursts may shift by a frame or two
+  constexpr double kMaxRate = 120;
+  const std::vector<double> times = ProbeFrameTimes(video);
+  if (times.size() < 3) return info.frame_rate;
+  const std::size_t window = std::min(kStretch, times.size() - 1);
+  double densest = std::numeric_limits<double>::infinity();  // the shortest mean interval over `window` frames
+  for (std::size_t i = 0; i + window < times.size(); ++i) {
+    densest = std::min(densest, (times[i + window] - times[i]) / window);
+  }
+  if (!(densest > 0)) return info.frame_rate;
+  const double rate = std::min(1 / densest, kMaxRate);
+  // Within 1% the stated rate stands: times stored to the microsecond jitter that much.
+  return rate > 1.01 * info.frame_rate.value() ? FrameRate::FromDouble(rate) : info.frame_rate;
 }
 
 }  // namespace gazedirector

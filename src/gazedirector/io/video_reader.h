@@ -39,9 +39,11 @@ class VideoReader {
   const VideoInfo& info() const { return info_; }
   // False at the end of the stream.
   bool Read(cv::Mat& frame);
-  // The index and timestamp (seconds) of the frame last read.
+  // The index and presentation time (seconds from the first frame) of the
+  // frame last read, as the container times it: frames of a variable-rate
+  // video keep their own times.
   long frame_index() const { return frame_index_; }
-  double timestamp_s() const { return frame_index_ / info_.frame_rate.value(); }
+  double timestamp_s() const { return timestamp_s_; }
   // True when the stream stopped well before the frame count the container
   // announced (a truncated file).
   bool EndedEarly() const;
@@ -52,7 +54,16 @@ class VideoReader {
   VideoInfo info_;
   int counterclockwise_deg_ = 0;  // the display turn the container asks for: 0, 90, 180 or 270
   long frame_index_ = -1;
+  double timestamp_s_ = 0;
+  double last_step_s_ = 0;  // the interval before the frame last read
   bool ended_ = false;
 };
+
+// The constant rate at which a video's frames can be written again so that
+// each keeps its time: the stated rate, or for a variable-rate video the rate
+// of its densest stretch, so that no frame is dropped (slower stretches repeat
+// frames). Reads the frame times with ffprobe; the stated rate where ffprobe
+// is missing or the times cannot be read.
+FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info);
 
 }  // namespace gazedirector

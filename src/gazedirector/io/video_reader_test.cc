@@ -1,6 +1,7 @@
 #include "gazedirector/io/video_reader.h"
 
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -58,6 +59,33 @@ TEST(VideoReaderTest, TurnsFramesAsTheContainerAsksLikeFfmpeg) {
     // The same decoded picture up to the colour conversion's rounding; a wrong turn differs by tens of levels.
     EXPECT_LT(cv::norm(frame, expected, cv::NORM_L1) / frame.total() / 3, 3.0) << rotate;
   }
+}
+
+// Phones and screen recorders write variable-rate videos: frames must keep
+// their own times, and a writer needs a rate on which none is dropped.
+TEST(VideoReaderTest, ReadsAVariableRateVideosFramesAtTheirOwnTimes) {
+  ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path video = ScratchDir("video_reader_vfr") / "vfr.mp4";
+  // s18 at 30 fps: every 3rd frame of the first second, all of the second, every 3rd of the third.
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/s18.mp4")) +
+                       " -t 3 -an -vf \"select='not(mod(n\\,3))+between(n\\,30\\,59)'\" -vsync vfr " + Quote(video)),
+            0);
+  VideoReader reader(video);
+  std::vector<double> times;
+  cv::Mat frame;
+  while (reader.Read(frame)) times.push_back(reader.timestamp_s());
+  ASSERT_EQ(times.size(), 10u + 30u + 10u);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const long source_frame = i < 10 ? 3 * i : i < 40 ? 30 + (i - 10) : 60 + 3 * (i - 40);
+    EXPECT_NEAR(times[i], source_frame / 30.0, 1e-3) << i;
+  }
+  EXPECT_NEAR(SteadyFrameRate(video, reader.info()).value(), 30.0, 1e-9);
+  EXPECT_NEAR(reader.info().frame_rate.value(), 50 / 2.933, 0.1);  // the stated rate is the average
+
+  VideoReader steady(DataPath("video/s18.mp4"));
+  EXPECT_NEAR(SteadyFrameRate(DataPath("video/s18.mp4"), steady.info()).value(), 30.0, 1e-9);
+  long index = 0;
+  while (steady.Read(frame) && index < 100) EXPECT_NEAR(steady.timestamp_s(), index++ / 30.0, 1e-6);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "gazedirector/io/video_writer.h"
 
+#include <cmath>
 #include <string>
 
 #include "gazedirector/io/media.h"
@@ -38,15 +39,29 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options
 
 VideoWriter::~VideoWriter() = default;
 
-void VideoWriter::Write(const cv::Mat& frame) {
+void VideoWriter::Write(const cv::Mat& frame, double timestamp_s) {
   CV_Assert(frame.type() == CV_8UC3 && frame.cols == options_.width && frame.rows == options_.height);
+  // A gap longer than this is a broken time, not a pause worth filling.
+  constexpr double kLongestHold_s = 60;
+  const double rate = options_.frame_rate.value();
+  const double slot = std::isfinite(timestamp_s) ? std::round(timestamp_s * rate) : 0.0;
+  if (previous_.empty()) frame.copyTo(previous_);  // a video starting late shows its first frame from the start
+  if (slot > next_slot_ && slot - next_slot_ <= kLongestHold_s * rate) {
+    while (next_slot_ < slot) Encode(previous_);
+  }
+  Encode(frame);
+  frame.copyTo(previous_);
+  ++frames_written_;
+}
+
+void VideoWriter::Encode(const cv::Mat& frame) {
   const cv::Mat contiguous = frame.isContinuous() ? frame : frame.clone();
   if (!encoder_->Write(contiguous.data, contiguous.total() * contiguous.elemSize())) {
     const std::string message = encoder_->ErrorOutput();
     encoder_->Kill();
     Fail(ExitCode::kOutput, "ffmpeg stopped while writing {}: {}", output_.path().string(), message);
   }
-  ++frames_written_;
+  ++next_slot_;
 }
 
 void VideoWriter::Finish() {

@@ -15,6 +15,8 @@ namespace gazedirector {
 struct VideoWriterOptions {
   int width = 0;
   int height = 0;
+  // The output's constant rate; frames are placed on it by their times (see
+  // SteadyFrameRate for a variable-rate source).
   FrameRate frame_rate;
   // Audio tracks are copied unchanged from this file when set and present.
   std::filesystem::path audio_source;
@@ -22,7 +24,10 @@ struct VideoWriterOptions {
 };
 
 // Encodes BGR frames to H.264 (or GIF for a .gif path) through the ffmpeg
-// program, copying the audio of `audio_source`. The output appears only when
+// program, copying the audio of `audio_source`. Each frame is shown from its
+// time on: where the next frame comes later than one step of the output's
+// rate, it is held (a variable-rate source or a gap), and frames that come
+// sooner than one step each still get one. The output appears only when
 // Finish() succeeds; otherwise nothing is left behind.
 class VideoWriter {
  public:
@@ -30,15 +35,21 @@ class VideoWriter {
               const std::vector<std::filesystem::path>& inputs = {});
   ~VideoWriter();
 
-  void Write(const cv::Mat& frame);
+  void Write(const cv::Mat& frame, double timestamp_s);
   void Finish();
+  // Frames given, and frames encoded (with those held over gaps).
   long frames_written() const { return frames_written_; }
+  long frames_encoded() const { return next_slot_; }
 
  private:
+  void Encode(const cv::Mat& frame);
+
   VideoWriterOptions options_;
   AtomicOutput output_;
   std::unique_ptr<Subprocess> encoder_;
   long frames_written_ = 0;
+  long next_slot_ = 0;  // the next frame's index on the output's rate
+  cv::Mat previous_;
 };
 
 }  // namespace gazedirector

@@ -110,6 +110,42 @@ std::string Subprocess::ErrorOutput() const {
   return last;
 }
 
+std::optional<std::string> RunForOutput(const std::vector<std::string>& argv) {
+  ::signal(SIGPIPE, SIG_IGN);
+  int pipe_fds[2];
+  if (::pipe(pipe_fds) != 0) return std::nullopt;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_addclose(&actions, pipe_fds[0]);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = -1;
+  const int status = ::posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(pipe_fds[1]);
+  std::string output;
+  if (status == 0) {
+    char buffer[65536];
+    for (;;) {
+      const ssize_t got = ::read(pipe_fds[0], buffer, sizeof(buffer));
+      if (got < 0 && errno == EINTR) continue;
+      if (got <= 0) break;
+      output.append(buffer, static_cast<std::size_t>(got));
+    }
+  }
+  ::close(pipe_fds[0]);
+  if (status != 0) return std::nullopt;
+  int exit_status = 0;
+  while (::waitpid(pid, &exit_status, 0) < 0 && errno == EINTR) {
+  }
+  if (!WIFEXITED(exit_status) || WEXITSTATUS(exit_status) != 0) return std::nullopt;
+  return output;
+}
+
 bool ProgramExists(const std::string& program) {
   const char* path = std::getenv("PATH");
   std::stringstream folders(path ? path : "/usr/bin:/bin");

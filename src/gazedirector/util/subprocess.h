@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,11 @@ class Subprocess {
   int stdin_fd_ = -1;
   std::filesystem::path stderr_path_;
 };
+
+// Runs a program to its end with nothing on its stdin and returns what it
+// wrote to stdout, or nothing when it could not start or exited non-zero (its
+// stderr is discarded). For quick queries such as ffprobe's.
+std::optional<std::string> RunForOutput(const std::vector<std::string>& argv);
 
 // True when `program` is found in PATH.
 bool ProgramExists(const std::string& program);

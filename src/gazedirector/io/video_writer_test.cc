@@ -1,0 +1,59 @@
+#include "gazedirector/io/video_writer.h"
+
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "gazedirector/io/video_reader.h"
+#include "gazedirector/util/subprocess.h"
+#include "tests/test_data.h"
+
+namespace gazedirector {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ScratchDir;
+
+// Frame i is a flat grey of 20 i, so that every encoded frame tells which
+// frame it shows.
+cv::Mat NumberedFrame(int i) { return cv::Mat(64, 64, CV_8UC3, cv::Scalar::all(20 * i)); }
+
+// The numbers of the frames a video shows, one per encoded frame.
+std::vector<int> ShownNumbers(const fs::path& video) {
+  VideoReader reader(video);
+  std::vector<int> numbers;
+  cv::Mat frame;
+  while (reader.Read(frame)) numbers.push_back(cvRound(cv::mean(frame)[0] / 20));
+  return numbers;
+}
+
+TEST(VideoWriterTest, HoldsEachFrameUntilTheNextOnesTimeAndDropsNone) {
+  ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path path = ScratchDir("video_writer") / "variable.mp4";
+  // 10 fps, then a stretch at 30 fps, a pause of 0.2 s, then 30 fps again.
+  const std::vector<double> times = {0, 0.1, 0.2, 0.2333, 0.2667, 0.3, 0.5, 0.5333, 0.5667, 0.6};
+  VideoWriter writer(path, VideoWriterOptions{64, 64, FrameRate{30, 1}, {}});
+  for (int i = 0; i < static_cast<int>(times.size()); ++i) writer.Write(NumberedFrame(i), times[i]);
+  writer.Finish();
+  EXPECT_EQ(writer.frames_written(), 10);
+  EXPECT_EQ(writer.frames_encoded(), 19);
+
+  // Output frame k (at k / 30 s) shows the last frame whose time is at or before it.
+  const std::vector<int> expected = {0, 0, 0, 1, 1, 1, 2, 3, 4, 5, 5, 5, 5, 5, 5, 6, 7, 8, 9};
+  EXPECT_EQ(ShownNumbers(path), expected);
+}
+
+TEST(VideoWriterTest, GivesFramesThatComeSoonerThanOneStepEachAFrame) {
+  ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path path = ScratchDir("video_writer") / "dense.mp4";
+  VideoWriter writer(path, VideoWriterOptions{64, 64, FrameRate{10, 1}, {}});
+  // Three frames inside one step of 0.1 s, then one that starts late by a broken time.
+  const std::vector<double> times = {0.02, 0.03, 0.04, 1e9};
+  for (int i = 0; i < static_cast<int>(times.size()); ++i) writer.Write(NumberedFrame(i), times[i]);
+  writer.Finish();
+  EXPECT_EQ(ShownNumbers(path), (std::vector<int>{0, 1, 2, 3}));
+}
+
+}  // namespace
+}  // namespace gazedirector
