@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/face/turned_crop.h"
+#include "gazedirector/util/thread_pool.h"
 
 namespace gazedirector {
 namespace {
@@ -41,7 +42,10 @@ double IntersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b) {
 }
 
 struct FaceDetector::Impl {
-  dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  Impl() : detector(dlib::get_frontal_face_detector()) {}
+  explicit Impl(const dlib::frontal_face_detector& copied) : detector(copied) {}  // its own buffers
+
+  dlib::frontal_face_detector detector;
   cv::Mat resized;
 
   std::vector<Detection> Run(const cv::Mat& gray, double scale, double threshold, const cv::Point2d& offset) {
@@ -70,12 +74,19 @@ std::vector<Detection> FaceDetector::Detect(const cv::Mat& gray, double scale, d
   return impl_->Run(gray, scale, threshold, {0, 0});
 }
 
-std::vector<Detection> FaceDetector::DetectTurned(const cv::Mat& gray, double roll, double scale, double threshold) {
+std::vector<std::vector<Detection>> FaceDetector::DetectTurned(const cv::Mat& gray, std::span<const double> rolls,
+                                                               double scale, double threshold) {
   CV_Assert(gray.type() == CV_8UC1);
-  const TurnedCrop crop = TurnedCrop::WholeImage(gray.size(), roll, scale);
-  std::vector<Detection> detections = impl_->Run(crop.Cut(gray, cv::BORDER_CONSTANT), 1.0, threshold, {0, 0});
-  for (Detection& d : detections) d = FromCrop(d, crop);
-  return detections;
+  if (!pool_) pool_ = std::make_unique<ThreadPool>();
+  while (static_cast<int>(helpers_.size()) + 1 < pool_->size()) helpers_.push_back(std::make_unique<Impl>(impl_->detector));
+  std::vector<std::vector<Detection>> found(rolls.size());
+  pool_->ParallelFor(static_cast<int>(rolls.size()), [&](int i, int worker) {
+    Impl& impl = worker == 0 ? *impl_ : *helpers_[worker - 1];
+    const TurnedCrop crop = TurnedCrop::WholeImage(gray.size(), rolls[i], scale);
+    found[i] = impl.Run(crop.Cut(gray, cv::BORDER_CONSTANT), 1.0, threshold, {0, 0});
+    for (Detection& d : found[i]) d = FromCrop(d, crop);
+  });
+  return found;
 }
 
 Detection FaceDetector::Verify(const cv::Mat& gray, const cv::Rect2d& box, double threshold, double roll) {

@@ -1,11 +1,14 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 namespace gazedirector {
+
+class ThreadPool;
 
 struct Detection {
   cv::Rect2d box;  // in the coordinates of the image given to Detect
@@ -30,9 +33,11 @@ class FaceDetector {
   // Detections scoring below `threshold` are dropped; best first.
   std::vector<Detection> Detect(const cv::Mat& gray, double scale = 1.0, double threshold = 0.0);
 
-  // Faces that stand upright in the image turned by `roll` (radians, see
-  // turned_crop.h). Best first.
-  std::vector<Detection> DetectTurned(const cv::Mat& gray, double roll, double scale = 1.0, double threshold = 0.0);
+  // Faces that stand upright in the image turned by each of `rolls` (radians,
+  // see turned_crop.h): one list per roll, best first. The searches run side
+  // by side on the hardware's threads, each with its own copy of the detector.
+  std::vector<std::vector<Detection>> DetectTurned(const cv::Mat& gray, std::span<const double> rolls,
+                                                   double scale = 1.0, double threshold = 0.0);
 
   // The best score of a face overlapping `box` (IoU >= 0.3), searched in a
   // small window around it: a cheap check that a tracked face is still there.
@@ -45,6 +50,8 @@ class FaceDetector {
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  std::unique_ptr<ThreadPool> pool_;            // made at the first turned search
+  std::vector<std::unique_ptr<Impl>> helpers_;  // the pool's other threads' detectors
 };
 
 double IntersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b);

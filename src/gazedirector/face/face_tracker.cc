@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <span>
 
 #include <Eigen/Geometry>
@@ -127,8 +128,8 @@ void FaceTracker::AddTurnedDetections(const cv::Mat& gray, double scale, std::ve
   // tilted 30-45 degrees by the upright search too: MergeDetection keeps the
   // better-scoring detection, which tells the tilt better.
   auto search = [&](std::span<const double> rolls) {
-    for (double roll : rolls) {
-      for (const Detection& d : detector_.DetectTurned(gray, roll, scale)) MergeDetection(detections, d);
+    for (const std::vector<Detection>& found : detector_.DetectTurned(gray, rolls, scale)) {
+      for (const Detection& d : found) MergeDetection(detections, d);
     }
   };
   search(kTiltedRolls);
@@ -139,19 +140,20 @@ void FaceTracker::AddTurnedDetections(const cv::Mat& gray, double scale, std::ve
 std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& camera) {
   const cv::Mat gray = ToGray(bgr, gray_);
   const double scale = StillDetectionScale(gray.cols, gray.rows);
-  std::vector<Detection> detections = detector_.Detect(gray, scale);
+  // HOG scores some real faces (glasses, a frown, hair over the brows: d8.jpg
+  // at -0.3 to -0.5) below its usual threshold of 0. A photo with nothing
+  // above 0 takes its single best window above kFallbackThreshold; the cat in
+  // s39.jpg scores nothing above -0.8. One search gives both: windows scoring
+  // below 0 come after the others and cannot suppress them.
+  const std::vector<Detection> windows = detector_.Detect(gray, scale, kFallbackThreshold);
+  std::vector<Detection> detections;
+  std::copy_if(windows.begin(), windows.end(), std::back_inserter(detections),
+               [](const Detection& d) { return d.score >= 0; });
   // A still is searched turned too (it costs about half a second on a 2,000 px
   // photo): HOG finds some faces tilted 30-45 degrees upright, but the turned
   // search that finds the same face scores it better and tells its tilt.
   AddTurnedDetections(gray, scale, detections);
-  if (detections.empty()) {
-    // HOG scores some real faces (glasses, a frown, hair over the brows: d8.jpg
-    // at -0.3 to -0.5) below its usual threshold of 0. A photo with nothing
-    // above 0 takes its single best window above kFallbackThreshold; the cat
-    // in s39.jpg scores nothing above -0.8.
-    detections = detector_.Detect(gray, scale, kFallbackThreshold);
-    if (detections.size() > 1) detections.resize(1);
-  }
+  if (detections.empty() && !windows.empty()) detections = {windows.front()};
   if (options_.largest_only && detections.size() > 1) {
     const auto largest = std::max_element(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) {
       return a.box.area() < b.box.area();
