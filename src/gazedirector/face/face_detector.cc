@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
+#include <sstream>
+#include <string>
 
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <dlib/opencv/cv_image.h>
@@ -12,6 +15,10 @@
 #include "gazedirector/util/thread_pool.h"
 
 namespace gazedirector {
+
+extern const unsigned char kFrontalFaceDetectorBytes[];
+extern const std::size_t kFrontalFaceDetectorSize;
+
 namespace {
 
 // The detector's sliding window is 80x80 px; a face box this wide is searched
@@ -31,6 +38,18 @@ Detection FromCrop(const Detection& d, const TurnedCrop& crop) {
   return {{centre.x() - 0.5 * w, centre.y() - 0.5 * h, w, h}, d.score, AngleDifference(crop.roll + d.roll, 0)};
 }
 
+// dlib's frontal face detector, decoded once per process from the bytes the
+// build stored (src/tools/embed_face_detector.cc).
+const dlib::frontal_face_detector& StoredFrontalFaceDetector() {
+  static const dlib::frontal_face_detector detector = [] {
+    dlib::frontal_face_detector decoded;
+    std::istringstream stream(std::string(reinterpret_cast<const char*>(kFrontalFaceDetectorBytes), kFrontalFaceDetectorSize));
+    dlib::deserialize(decoded, stream);
+    return decoded;
+  }();
+  return detector;
+}
+
 }  // namespace
 
 double ConfidenceFromScore(double score) { return 1.0 / (1.0 + std::exp(-3.0 * score)); }
@@ -42,7 +61,7 @@ double IntersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b) {
 }
 
 struct FaceDetector::Impl {
-  Impl() : detector(dlib::get_frontal_face_detector()) {}
+  Impl() : detector(StoredFrontalFaceDetector()) {}
   explicit Impl(const dlib::frontal_face_detector& copied) : detector(copied) {}  // its own buffers
 
   dlib::frontal_face_detector detector;
