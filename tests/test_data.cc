@@ -29,7 +29,7 @@ const Assets& TestAssets() {
 }
 
 std::shared_ptr<const LandmarkDetector> SharedLandmarkDetector() {
-  static const auto detector = std::make_shared<const LandmarkDetector>(TestAssets().landmark_model());
+  static const auto detector = LandmarkDetector::Load(TestAssets().landmark_model(), Assets::CacheDir());
   return detector;
 }
 

@@ -36,7 +36,7 @@ int RunBench(const BenchOptions& options) {
   const std::filesystem::path data = options.data.empty() ? DefaultDataDir() : std::filesystem::path(options.data);
   const std::filesystem::path d3 = data / "video" / "d3.mp4";
 
-  auto landmark_detector = std::make_shared<LandmarkDetector>(assets.landmark_model());
+  auto landmark_detector = LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir());
   const MeanFace mean_face = LoadMeanFace(assets.mean_face());
 
   std::shared_ptr<const EyeRegionModel> loaded_model;

@@ -507,7 +507,7 @@ int RunLandmarkEval(const EvalOptions& options) {
                                         : std::filesystem::path(options.landmarks_xml);
   if (!std::filesystem::is_regular_file(xml)) Fail(ExitCode::kBadInput, "{}: no such file", xml.string());
   const Assets assets = Assets::Resolve(options.common.assets);
-  auto landmark_detector = std::make_shared<LandmarkDetector>(assets.landmark_model());
+  auto landmark_detector = LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir());
   FaceTracker tracker(landmark_detector, LoadMeanFace(assets.mean_face()));
   std::vector<std::pair<double, LandmarkAccuracy>> by_turn;
   for (double turn : options.landmark_turns) by_turn.emplace_back(turn, EvaluateLandmarks(xml, tracker, *landmark_detector, turn));

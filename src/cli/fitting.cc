@@ -16,7 +16,7 @@ FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOpti
   const Assets assets = Assets::Resolve(common.assets);
   FittingSetup setup;
   setup.model = EyeRegionModel::Load(assets);
-  setup.landmarks = std::make_shared<LandmarkDetector>(assets.landmark_model());
+  setup.landmarks = LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir());
   setup.mean_face = LoadMeanFace(assets.mean_face());
   for (const std::string& assignment : options.fit) {
     SetFitOption(setup.tracker_options.fresh, assignment);

@@ -128,8 +128,8 @@ int RunLandmarks(const LandmarksOptions& options) {
   FaceTrackerOptions tracker_options;
   tracker_options.largest_only = options.largest;
   tracker_options.smooth = !options.no_smoothing;
-  FaceTracker tracker(std::make_shared<LandmarkDetector>(assets.landmark_model()), LoadMeanFace(assets.mean_face()),
-                      tracker_options);
+  FaceTracker tracker(LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir()),
+                      LoadMeanFace(assets.mean_face()), tracker_options);
   return kind == MediaKind::kImage ? RunOnImage(options, tracker) : RunOnVideo(options, tracker);
 }
 

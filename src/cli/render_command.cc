@@ -78,8 +78,8 @@ int RunRender(const RenderOptions& options) {
     if (options.params.empty()) {
       FaceTrackerOptions tracker_options;
       tracker_options.largest_only = true;
-      FaceTracker tracker(std::make_shared<LandmarkDetector>(assets.landmark_model()), LoadMeanFace(assets.mean_face()),
-                          tracker_options);
+      FaceTracker tracker(LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir()),
+                          LoadMeanFace(assets.mean_face()), tracker_options);
       const std::vector<Face> faces = tracker.DetectFaces(background, camera);
       if (faces.empty()) Fail(ExitCode::kNoFace, "no face found in {} to place the model on", options.overlay);
       phi = InitializeFromLandmarks(faces[0], camera, *model);

@@ -1,5 +1,8 @@
 #include "gazedirector/face/landmark_detector.h"
 
+#include <filesystem>
+#include <vector>
+
 #include <dlib/image_processing.h>
 #include <dlib/opencv/cv_image.h>
 #include <gtest/gtest.h>
@@ -13,6 +16,39 @@
 
 namespace gazedirector {
 namespace {
+
+// The plain copy of the trees that later processes read instead of dlib's
+// file must predict exactly as the file does; a damaged or stale copy is
+// read from the file again and replaced.
+TEST(LandmarkDetectorTest, ACachedModelPredictsAsTheFileDoesAndADamagedCacheIsRebuilt) {
+  const std::filesystem::path cache_dir = testing::ScratchDir("landmark_cache");
+  const std::filesystem::path model = testing::TestAssets().landmark_model();
+  const LandmarkDetector from_file(model);
+  const auto written = LandmarkDetector::Load(model, cache_dir);  // reads the file, writes the copy
+  std::vector<std::filesystem::path> copies;
+  for (const auto& entry : std::filesystem::directory_iterator(cache_dir)) copies.push_back(entry.path());
+  ASSERT_EQ(copies.size(), 1u);
+  const auto cached = LandmarkDetector::Load(model, cache_dir);
+
+  cv::Mat gray;
+  cv::cvtColor(ReadImage(testing::DataPath("images/d30.jpg")), gray, cv::COLOR_BGR2GRAY);
+  FaceDetector face_detector;
+  const std::vector<Detection> faces = face_detector.Detect(gray);
+  ASSERT_FALSE(faces.empty());
+  const Landmarks68 expected = from_file.Detect(gray, faces[0].box);
+  for (const auto& detector : {written, cached}) {
+    const Landmarks68 got = detector->Detect(gray, faces[0].box, 0);
+    for (int i = 0; i < kNumLandmarks; ++i) ASSERT_EQ(got[i], expected[i]) << i;
+  }
+
+  // Cut the copy short: the next load reads the file and writes a whole copy again.
+  const auto size = std::filesystem::file_size(copies[0]);
+  std::filesystem::resize_file(copies[0], size / 2);
+  const auto rebuilt = LandmarkDetector::Load(model, cache_dir);
+  EXPECT_EQ(std::filesystem::file_size(copies[0]), size);
+  const Landmarks68 again = rebuilt->Detect(gray, faces[0].box);
+  for (int i = 0; i < kNumLandmarks; ++i) ASSERT_EQ(again[i], expected[i]) << i;
+}
 
 // The sub-pixel evaluation must agree with dlib's own predictor, which rounds
 // the same positions to whole pixels.

@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gazedirector/io/atomic_output.h"
+#include "gazedirector/io/binary_io.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/timer.h"
 
@@ -78,23 +79,6 @@ fs::path LookDownOf(const fs::path& map) {
   std::string name = map.filename().string();
   name.replace(name.size() - 4, 4, "_look_down.png");
   return map.parent_path() / name;
-}
-
-template <typename T>
-void WriteVector(std::ostream& out, const std::vector<T>& values) {
-  const uint64_t count = values.size();
-  out.write(reinterpret_cast<const char*>(&count), sizeof count);
-  out.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(count * sizeof(T)));
-}
-
-template <typename T>
-bool ReadVector(std::istream& in, std::vector<T>& values, uint64_t max_count) {
-  uint64_t count = 0;
-  in.read(reinterpret_cast<char*>(&count), sizeof count);
-  if (!in || count > max_count) return false;
-  values.resize(count);
-  in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(count * sizeof(T)));
-  return static_cast<bool>(in);
 }
 
 }  // namespace
