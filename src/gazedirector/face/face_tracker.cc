@@ -149,7 +149,7 @@ std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& cam
   std::vector<Detection> detections;
   std::copy_if(windows.begin(), windows.end(), std::back_inserter(detections),
                [](const Detection& d) { return d.score >= 0; });
-  // A still is searched turned too (it costs about half a second on a 2,000 px
+  // A still is searched turned too (about half a second of CPU on a 2,000 px
   // photo): HOG finds some faces tilted 30-45 degrees upright, but the turned
   // search that finds the same face scores it better and tells its tilt.
   AddTurnedDetections(gray, scale, detections);
