@@ -89,6 +89,9 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
     std::ofstream(dir / "truncated.mp4", std::ios::binary) << head;
     std::ofstream(dir / "empty.png").close();
   }
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/d19.mp4")) + " -t 1 -vn -c:a copy " +
+                       Quote(dir / "audio_only.mp4")),
+            0);
   struct Case {
     std::string arguments;
     int code;
@@ -98,6 +101,7 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
       {"landmarks " + Quote(dir / "truncated.jpg") + " -o " + Quote(dir / "o2.json"), 4},
       {"landmarks " + Quote(dir / "empty.png") + " -o " + Quote(dir / "o3.json"), 4},
       {"landmarks " + Quote(dir / "truncated.mp4") + " -o " + Quote(dir / "o4.jsonl"), 4},
+      {"landmarks " + Quote(dir / "audio_only.mp4") + " -o " + Quote(dir / "o9.jsonl"), 4},
       {"landmarks " + Quote(DataPath("images/s42.jpg")), 2},
       {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o5.json") + " --overlay " + Quote(dir / "o5.mp4"), 2},
       {"landmarks " + Quote(DataPath("images/s42.jpg")) + " -o " + Quote(dir / "o6.json") + " --assets " + Quote(dir / "nowhere"), 5},
@@ -109,8 +113,12 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
     EXPECT_EQ(RunCli(c.arguments, &output), c.code) << c.arguments << "\n" << output;
     EXPECT_FALSE(output.empty());
     EXPECT_EQ(output.find("internal error"), std::string::npos) << output;
+    if (c.arguments.find("audio_only") != std::string::npos) {
+      EXPECT_NE(output.find("holds no video stream"), std::string::npos) << output;
+    }
   }
-  for (const char* name : {"o1.json", "o2.json", "o3.json", "o4.jsonl", "o5.json", "o6.json", "o7.json", "o8.json"}) {
+  for (const char* name :
+       {"o1.json", "o2.json", "o3.json", "o4.jsonl", "o5.json", "o6.json", "o7.json", "o8.json", "o9.jsonl"}) {
     EXPECT_FALSE(fs::exists(dir / name)) << name;
   }
   EXPECT_TRUE(NoPartialFiles(dir));

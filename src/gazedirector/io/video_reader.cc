@@ -31,6 +31,18 @@ FrameRate FrameRate::FromDouble(double fps) {
   return {static_cast<int>(std::round(fps * 1000)), 1000};
 }
 
+namespace {
+
+// True only when ffprobe reads the file and lists no video stream in it.
+bool HoldsNoVideoStream(const std::filesystem::path& path) {
+  if (!ProgramExists("ffprobe")) return false;
+  const std::optional<std::string> streams = RunForOutput(
+      {"ffprobe", "-v", "error", "-show_entries", "stream=codec_type", "-of", "csv=p=0", path.string()});
+  return streams && !streams->empty() && streams->find("video") == std::string::npos;
+}
+
+}  // namespace
+
 VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   if (DetectMediaKind(path) != MediaKind::kVideo) Fail(ExitCode::kBadInput, "{}: not a video", path.string());
   capture_ = std::make_unique<cv::VideoCapture>();
@@ -40,6 +52,7 @@ VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
     Fail(ExitCode::kBadInput, "{}: cannot open the video ({})", path.string(), e.err);
   }
   if (!capture_->isOpened()) {
+    if (HoldsNoVideoStream(path)) Fail(ExitCode::kBadInput, "{}: holds no video stream (only audio?)", path.string());
     Fail(ExitCode::kBadInput, "{}: cannot open the video (truncated, corrupt or unsupported)", path.string());
   }
   // OpenCV 4.6 (Debian 12's) turns a video stored a quarter turn from upright
