@@ -33,6 +33,25 @@ FrameRate FrameRate::FromDouble(double fps) {
 
 namespace {
 
+// The video stream's packet times in seconds, in presentation order.
+std::vector<double> ProbeFrameTimes(const std::filesystem::path& video) {
+  if (!ProgramExists("ffprobe")) return {};
+  const std::optional<std::string> output =
+      RunForOutput({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries", "packet=pts_time", "-of",
+                    "csv=p=0", video.string()});
+  std::vector<double> times;
+  if (!output) return times;
+  std::istringstream lines(*output);
+  std::string line;
+  while (std::getline(lines, line)) {
+    char* end = nullptr;
+    const double time = std::strtod(line.c_str(), &end);
+    if (end != line.c_str() && std::isfinite(time)) times.push_back(time);
+  }
+  std::sort(times.begin(), times.end());
+  return times;
+}
+
 // True only when ffprobe reads the file and lists no video stream in it.
 bool HoldsNoVideoStream(const std::filesystem::path& path) {
   if (!ProgramExists("ffprobe")) return false;
@@ -115,29 +134,6 @@ bool VideoReader::Read(cv::Mat& frame) {
 bool VideoReader::EndedEarly() const {
   return ended_ && info_.frame_count > 0 && frame_index_ + 1 < info_.frame_count - 1;
 }
-
-namespace {
-
-// The video stream's packet times in seconds, in presentation order.
-std::vector<double> ProbeFrameTimes(const std::filesystem::path& video) {
-  if (!ProgramExists("ffprobe")) return {};
-  const std::optional<std::string> output =
-      RunForOutput({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries", "packet=pts_time", "-of",
-                    "csv=p=0", video.string()});
-  std::vector<double> times;
-  if (!output) return times;
-  std::istringstream lines(*output);
-  std::string line;
-  while (std::getline(lines, line)) {
-    char* end = nullptr;
-    const double time = std::strtod(line.c_str(), &end);
-    if (end != line.c_str() && std::isfinite(time)) times.push_back(time);
-  }
-  std::sort(times.begin(), times.end());
-  return times;
-}
-
-}  // namespace
 
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info) {
   constexpr std::size_t kStretch = 10;  // frames: shorter bursts may shift by a frame or two
