@@ -77,8 +77,7 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
   if (!options.csv.empty()) csv.emplace(options.csv, FaceCsvColumns(), inputs);
   std::optional<VideoWriter> overlay;
   if (!options.overlay.empty()) {
-    const VideoWriterOptions writing{info.width, info.height, SteadyFrameRate(options.input, info), options.input};
-    overlay.emplace(options.overlay, writing, inputs);
+    overlay.emplace(options.overlay, WriterOptionsFor(options.input, info), inputs);
   }
 
   Progress progress("landmarks", info.frame_count, "frames", options.common.quiet);

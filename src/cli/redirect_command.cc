@@ -288,8 +288,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
 
   // Stage 2: re-render every frame.
   const int out_width = options.side_by_side ? 2 * info.width : info.width;
-  const VideoWriterOptions writing{out_width, info.height, SteadyFrameRate(options.input, info), options.input};
-  VideoWriter writer(options.output, writing, inputs);
+  VideoWriter writer(options.output, WriterOptionsFor(options.input, info, out_width), inputs);
   Redirector redirector(setup.model, redirect_options);
   std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
   Progress progress("redirect", info.frame_count, "frames", options.common.quiet);

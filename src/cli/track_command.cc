@@ -131,8 +131,7 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
   if (!options.csv.empty()) csv.emplace(options.csv, FitCsvColumns(), inputs);
   std::optional<VideoWriter> overlay;
   if (!options.overlay.empty()) {
-    const VideoWriterOptions writing{info.width, info.height, SteadyFrameRate(options.input, info), options.input};
-    overlay.emplace(options.overlay, writing, inputs);
+    overlay.emplace(options.overlay, WriterOptionsFor(options.input, info), inputs);
   }
   Renderer renderer(setup.model);
   Progress progress("track", info.frame_count, "frames", options.common.quiet);

@@ -9,6 +9,10 @@
 namespace gazedirector {
 namespace fs = std::filesystem;
 
+VideoWriterOptions WriterOptionsFor(const fs::path& source, const VideoInfo& info, int width) {
+  return {width > 0 ? width : info.width, info.height, SteadyFrameRate(source, info), source};
+}
+
 VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options, const std::vector<fs::path>& inputs)
     : options_(options), output_(path, inputs) {
   if (!ProgramExists("ffmpeg")) {

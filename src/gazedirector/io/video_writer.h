@@ -23,6 +23,11 @@ struct VideoWriterOptions {
   int crf = 18;  // x264 quality: 18 is visually lossless
 };
 
+// Options to write the frames of the video `source` again (perhaps `width`
+// wide, side by side): its size, a rate on which each frame keeps its time
+// (SteadyFrameRate), and its audio.
+VideoWriterOptions WriterOptionsFor(const std::filesystem::path& source, const VideoInfo& info, int width = 0);
+
 // Encodes BGR frames to H.264 (or GIF for a .gif path) through the ffmpeg
 // program, copying the audio of `audio_source`. Each frame is shown from its
 // time on: where the next frame comes later than one step of the output's
