@@ -138,15 +138,21 @@ bool VideoReader::EndedEarly() const {
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info) {
   constexpr std::size_t kStretch = 10;  // frames: shorter bursts may shift by a frame or two
   constexpr double kMaxRate = 120;
+  // At most this many frames written per frame read on average: a screen
+  // recording idling at 1 fps between bursts at 60 would otherwise be written
+  // 60 times over. Its bursts then fall behind and catch up while it idles.
+  constexpr double kMaxFramesPerFrame = 4;
   const std::vector<double> times = ProbeFrameTimes(video);
-  if (times.size() < 3) return info.frame_rate;
+  if (times.size() < 3 || !(times.back() > times.front())) return info.frame_rate;
   const std::size_t window = std::min(kStretch, times.size() - 1);
   double densest = std::numeric_limits<double>::infinity();  // the shortest mean interval over `window` frames
   for (std::size_t i = 0; i + window < times.size(); ++i) {
     densest = std::min(densest, (times[i + window] - times[i]) / window);
   }
   if (!(densest > 0)) return info.frame_rate;
-  const double rate = std::min(1 / densest, kMaxRate);
+  const double average = (times.size() - 1) / (times.back() - times.front());
+  const double cap = std::min(kMaxRate, kMaxFramesPerFrame * average);
+  const double rate = 1 / densest > cap ? std::max(1.0, std::floor(cap)) : 1 / densest;
   // Within 1% the stated rate stands: times stored to the microsecond jitter that much.
   return rate > 1.01 * info.frame_rate.value() ? FrameRate::FromDouble(rate) : info.frame_rate;
 }

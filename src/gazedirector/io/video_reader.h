@@ -61,9 +61,10 @@ class VideoReader {
 
 // The constant rate at which a video's frames can be written again so that
 // each keeps its time: the stated rate, or for a variable-rate video the rate
-// of its densest stretch, so that no frame is dropped (slower stretches repeat
-// frames). Reads the frame times with ffprobe; the stated rate where ffprobe
-// is missing or the times cannot be read.
+// of its densest stretch (at most 120 fps and 4 times the average), so that no
+// frame is dropped (slower stretches repeat frames). Reads the frame times
+// with ffprobe; the stated rate where ffprobe is missing or the times cannot
+// be read.
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info);
 
 }  // namespace gazedirector

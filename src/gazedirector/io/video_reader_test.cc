@@ -88,5 +88,22 @@ TEST(VideoReaderTest, ReadsAVariableRateVideosFramesAtTheirOwnTimes) {
   while (steady.Read(frame) && index < 100) EXPECT_NEAR(steady.timestamp_s(), index++ / 30.0, 1e-6);
 }
 
+// A screen recording idles at a frame a second between bursts: writing it at
+// its bursts' rate would repeat each frame dozens of times, so the rate is
+// held to four frames written per frame read on average.
+TEST(VideoReaderTest, ASparseVideosSteadyRateIsHeldToFourTimesItsAverage) {
+  ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path video = ScratchDir("video_reader_sparse") / "sparse.mp4";
+  // s18 at 30 fps: one frame a second for 8 s, with a burst of every frame from 3 s to 4 s.
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/s18.mp4")) +
+                       " -t 8 -an -vf \"select='not(mod(n\\,30))+between(n\\,91\\,119)'\" -vsync vfr " + Quote(video)),
+            0);
+  VideoReader reader(video);
+  const double average = (8 + 29 - 1) / 7.0;  // 37 frames from 0 s to 7 s
+  const FrameRate steady = SteadyFrameRate(video, reader.info());
+  EXPECT_EQ(steady.denominator, 1);
+  EXPECT_EQ(steady.numerator, static_cast<int>(4 * average));
+}
+
 }  // namespace
 }  // namespace gazedirector
