@@ -127,7 +127,7 @@ bool LandmarkDetector::TryLoadCache(const fs::path& path, const std::string& fin
   std::vector<float> initial;
   std::vector<uint64_t> levels;
   if (!ReadVector(in, initial, 1024) || initial.size() != 2 * kNumLandmarks) return false;
-  if (!ReadVector(in, levels, 1) || levels.size() != 1 || levels[0] > 1000) return false;
+  if (!ReadVector(in, levels, 1) || levels.size() != 1 || levels[0] == 0 || levels[0] > 1000) return false;
   impl_->initial_shape.set_size(static_cast<long>(initial.size()));
   std::copy(initial.begin(), initial.end(), impl_->initial_shape.begin());
   impl_->forests.resize(levels[0]);
