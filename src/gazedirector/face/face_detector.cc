@@ -61,10 +61,7 @@ double IntersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b) {
 }
 
 struct FaceDetector::Impl {
-  Impl() : detector(StoredFrontalFaceDetector()) {}
-  explicit Impl(const dlib::frontal_face_detector& copied) : detector(copied) {}  // its own buffers
-
-  dlib::frontal_face_detector detector;
+  dlib::frontal_face_detector detector = StoredFrontalFaceDetector();  // a copy: its own buffers
   cv::Mat resized;
 
   std::vector<Detection> Run(const cv::Mat& gray, double scale, double threshold, const cv::Point2d& offset) {
@@ -97,7 +94,7 @@ std::vector<std::vector<Detection>> FaceDetector::DetectTurned(const cv::Mat& gr
                                                                double scale, double threshold) {
   CV_Assert(gray.type() == CV_8UC1);
   if (!pool_) pool_ = std::make_unique<ThreadPool>();
-  while (static_cast<int>(helpers_.size()) + 1 < pool_->size()) helpers_.push_back(std::make_unique<Impl>(impl_->detector));
+  while (static_cast<int>(helpers_.size()) + 1 < pool_->size()) helpers_.push_back(std::make_unique<Impl>());
   std::vector<std::vector<Detection>> found(rolls.size());
   pool_->ParallelFor(static_cast<int>(rolls.size()), [&](int i, int worker) {
     Impl& impl = worker == 0 ? *impl_ : *helpers_[worker - 1];
