@@ -19,6 +19,7 @@ using testing::Quote;
 using testing::RunCli;
 using testing::RunCommand;
 using testing::ScratchDir;
+using testing::WriteSelectedFrames;
 
 std::string ReadText(const fs::path& path) {
   std::ifstream stream(path, std::ios::binary);
@@ -156,9 +157,7 @@ TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
 TEST(CliLandmarksTest, AVariableRateVideosFramesKeepTheirTimes) {
   const fs::path dir = ScratchDir("cli_landmarks_vfr");
   // d19 at 30 fps: every 3rd frame of the first second, all of the second, every 3rd of the third.
-  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/d19.mp4")) +
-                       " -t 3 -vf \"select='not(mod(n\\,3))+between(n\\,30\\,59)'\" -vsync vfr " + Quote(dir / "vfr.mp4")),
-            0);
+  ASSERT_EQ(WriteSelectedFrames("video/d19.mp4", 3, "not(mod(n,3))+between(n,30,59)", dir / "vfr.mp4", true), 0);
   std::string output;
   ASSERT_EQ(RunCli("landmarks " + Quote(dir / "vfr.mp4") + " -o " + Quote(dir / "vfr.jsonl") + " --overlay " +
                        Quote(dir / "overlay.mp4"),

@@ -75,6 +75,12 @@ const FittedStill& FitStill(const std::string& photo) {
   return fitted.emplace(photo, std::move(still)).first->second;
 }
 
+cv::Mat GrayPhoto(const std::string& photo) {
+  cv::Mat gray;
+  cv::cvtColor(ReadImage(DataPath(photo)), gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
 Eigen::Vector2d TurnedPhoto::Map(const Eigen::Vector2d& p) const {
   return {map(0, 0) * p.x() + map(0, 1) * p.y() + map(0, 2), map(1, 0) * p.x() + map(1, 1) * p.y() + map(1, 2)};
 }
@@ -129,6 +135,14 @@ int RunCli(const std::string& arguments, std::string* output) {
 }
 
 std::string Quote(const fs::path& path) { return fmt::format("'{}'", path.string()); }
+
+int WriteSelectedFrames(const std::string& video, double seconds, const std::string& select, const fs::path& out,
+                        bool audio) {
+  std::string escaped;  // commas separate filters unless escaped
+  for (const char c : select) escaped += c == ',' ? std::string("\\,") : std::string(1, c);
+  return RunCommand(fmt::format("ffmpeg -v error -y -i {} -t {} {} -vf \"select='{}'\" -vsync vfr {}", Quote(DataPath(video)),
+                                seconds, audio ? "" : "-an", escaped, Quote(out)));
+}
 
 bool NoPartialFiles(const fs::path& dir) {
   for (const auto& entry : fs::recursive_directory_iterator(dir)) {

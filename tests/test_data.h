@@ -47,6 +47,8 @@ struct FittedStill : DetectedStill {
   FitResult fit;
 };
 const FittedStill& FitStill(const std::string& photo);
+// A real photo under ../shared/data as 8-bit grey, as the face searches take it.
+cv::Mat GrayPhoto(const std::string& photo);
 // A photo turned by `degrees` clockwise as shown about its centre, on a
 // canvas that holds all of it (OpenCV's own rotation, black outside), and the
 // map of its points: a face tilted in the image by as much.
@@ -70,6 +72,12 @@ int RunCommand(const std::string& command, std::string* output = nullptr);
 int RunCli(const std::string& arguments, std::string* output = nullptr);
 // A path in single quotes, for RunCli's shell.
 std::string Quote(const std::filesystem::path& path);
+// Writes the frames of a real video under ../shared/data that ffmpeg's
+// `select` expression keeps, over its first `seconds`, each at its own time
+// (a variable-rate clip, as phones and screen recorders write); its audio is
+// kept when `audio`. Returns ffmpeg's exit status.
+int WriteSelectedFrames(const std::string& video, double seconds, const std::string& select,
+                        const std::filesystem::path& out, bool audio = false);
 // True when no temporary ".partial" file is left anywhere under `dir`.
 bool NoPartialFiles(const std::filesystem::path& dir);
 

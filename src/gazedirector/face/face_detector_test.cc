@@ -6,20 +6,12 @@
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <dlib/opencv/cv_image.h>
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "gazedirector/geometry/rotation.h"
-#include "gazedirector/io/image_io.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
 namespace {
-
-cv::Mat GrayPhoto(const char* name) {
-  cv::Mat gray;
-  cv::cvtColor(ReadImage(testing::DataPath(name)), gray, cv::COLOR_BGR2GRAY);
-  return gray;
-}
 
 // The detector the build stored decoded must be dlib's own: the same windows
 // with the same scores, down to the weak ones below the usual threshold.
@@ -28,7 +20,7 @@ TEST(FaceDetectorTest, TheStoredDetectorIsDlibsOwn) {
   FaceDetector detector;
   int windows = 0;
   for (const char* name : {"images/s42.jpg", "images/d8.jpg", "images/s39.jpg"}) {
-    const cv::Mat gray = GrayPhoto(name);
+    const cv::Mat gray = testing::GrayPhoto(name);
     std::vector<std::pair<double, dlib::rectangle>> theirs;
     reference(dlib::cv_image<unsigned char>(gray), theirs, -0.8);
     const std::vector<Detection> ours = detector.Detect(gray, 1.0, -0.8);
@@ -46,7 +38,7 @@ TEST(FaceDetectorTest, TheStoredDetectorIsDlibsOwn) {
 // The turned searches run side by side, each thread with its own detector;
 // they must find what searching one roll at a time finds.
 TEST(FaceDetectorTest, TurnedSearchesSideBySideFindWhatOneByOneFinds) {
-  const cv::Mat gray = testing::TurnPhoto(GrayPhoto("images/s12.jpg"), 90).image;
+  const cv::Mat gray = testing::TurnPhoto(testing::GrayPhoto("images/s12.jpg"), 90).image;
   const std::array<double, 4> rolls = {DegToRad(45.0), DegToRad(-45.0), DegToRad(90.0), DegToRad(-90.0)};
   FaceDetector together;
   const std::vector<std::vector<Detection>> found = together.DetectTurned(gray, rolls, 1.5);

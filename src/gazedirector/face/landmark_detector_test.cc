@@ -11,7 +11,6 @@
 #include "gazedirector/eval/landmark_accuracy.h"
 #include "gazedirector/face/face_detector.h"
 #include "gazedirector/geometry/rotation.h"
-#include "gazedirector/io/image_io.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
@@ -30,8 +29,7 @@ TEST(LandmarkDetectorTest, ACachedModelPredictsAsTheFileDoesAndADamagedCacheIsRe
   ASSERT_EQ(copies.size(), 1u);
   const auto cached = LandmarkDetector::Load(model, cache_dir);
 
-  cv::Mat gray;
-  cv::cvtColor(ReadImage(testing::DataPath("images/d30.jpg")), gray, cv::COLOR_BGR2GRAY);
+  const cv::Mat gray = testing::GrayPhoto("images/d30.jpg");
   FaceDetector face_detector;
   const std::vector<Detection> faces = face_detector.Detect(gray);
   ASSERT_FALSE(faces.empty());
@@ -59,8 +57,7 @@ TEST(LandmarkDetectorTest, AgreesWithDlibsRoundedPredictor) {
   FaceDetector face_detector;
   int faces = 0;
   for (const char* name : {"images/s42.jpg", "images/d30.jpg", "images/d19.jpg"}) {
-    cv::Mat gray;
-    cv::cvtColor(ReadImage(testing::DataPath(name)), gray, cv::COLOR_BGR2GRAY);
+    const cv::Mat gray = testing::GrayPhoto(name);
     for (const Detection& detection : face_detector.Detect(gray)) {
       const Landmarks68 ours = detector->Detect(gray, detection.box);
       const dlib::rectangle rect(std::lround(detection.box.x), std::lround(detection.box.y),

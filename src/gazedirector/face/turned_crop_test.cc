@@ -4,7 +4,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/geometry/rotation.h"
-#include "gazedirector/io/image_io.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
@@ -36,8 +35,7 @@ TEST(TurnedCropTest, CentresACropOnABoxThatStandsUprightInIt) {
 }
 
 TEST(TurnedCropTest, CutsThePixelsItMapsTo) {
-  cv::Mat gray;
-  cv::cvtColor(ReadImage(testing::DataPath("images/s42.jpg")), gray, cv::COLOR_BGR2GRAY);
+  const cv::Mat gray = testing::GrayPhoto("images/s42.jpg");
   const TurnedCrop crop = TurnedCrop::WholeImage(gray.size(), DegToRad(-60.0), 1.0);
   const cv::Mat cut = crop.Cut(gray, cv::BORDER_CONSTANT);
   ASSERT_EQ(cut.size(), crop.size);

@@ -67,9 +67,7 @@ TEST(VideoReaderTest, ReadsAVariableRateVideosFramesAtTheirOwnTimes) {
   ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path video = ScratchDir("video_reader_vfr") / "vfr.mp4";
   // s18 at 30 fps: every 3rd frame of the first second, all of the second, every 3rd of the third.
-  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/s18.mp4")) +
-                       " -t 3 -an -vf \"select='not(mod(n\\,3))+between(n\\,30\\,59)'\" -vsync vfr " + Quote(video)),
-            0);
+  ASSERT_EQ(testing::WriteSelectedFrames("video/s18.mp4", 3, "not(mod(n,3))+between(n,30,59)", video), 0);
   VideoReader reader(video);
   std::vector<double> times;
   cv::Mat frame;
@@ -95,9 +93,7 @@ TEST(VideoReaderTest, ASparseVideosSteadyRateIsHeldToFourTimesItsAverage) {
   ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path video = ScratchDir("video_reader_sparse") / "sparse.mp4";
   // s18 at 30 fps: one frame a second for 8 s, with a burst of every frame from 3 s to 4 s.
-  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/s18.mp4")) +
-                       " -t 8 -an -vf \"select='not(mod(n\\,30))+between(n\\,91\\,119)'\" -vsync vfr " + Quote(video)),
-            0);
+  ASSERT_EQ(testing::WriteSelectedFrames("video/s18.mp4", 8, "not(mod(n,30))+between(n,91,119)", video), 0);
   VideoReader reader(video);
   const double average = (8 + 29 - 1) / 7.0;  // 37 frames from 0 s to 7 s
   const FrameRate steady = SteadyFrameRate(video, reader.info());
