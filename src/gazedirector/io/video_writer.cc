@@ -49,9 +49,10 @@ void VideoWriter::Write(const cv::Mat& frame, double timestamp_s) {
   constexpr double kLongestHold_s = 60;
   const double rate = options_.frame_rate.value();
   const double slot = std::isfinite(timestamp_s) ? std::round(timestamp_s * rate) : 0.0;
-  if (previous_.empty()) frame.copyTo(previous_);  // a video starting late shows its first frame from the start
   if (slot > next_slot_ && slot - next_slot_ <= kLongestHold_s * rate) {
-    while (next_slot_ < slot) Encode(previous_);
+    // A video starting late shows its first frame from the start.
+    const cv::Mat& held = previous_.empty() ? frame : previous_;
+    while (next_slot_ < slot) Encode(held);
   }
   Encode(frame);
   frame.copyTo(previous_);
