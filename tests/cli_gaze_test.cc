@@ -305,6 +305,12 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
                    &output),
             4)
       << output;
+  // The input as the output is refused before any work, and left as it was.
+  fs::copy_file(DataPath("images/d30.jpg"), dir / "own.jpg", fs::copy_options::overwrite_existing);
+  EXPECT_EQ(RunCli("redirect " + Quote(dir / "own.jpg") + " -o " + Quote(dir / "." / "own.jpg"), &output), 6) << output;
+  EXPECT_NE(output.find("refusing to overwrite the input"), std::string::npos) << output;
+  EXPECT_EQ(output.find("redirected"), std::string::npos) << output;
+  EXPECT_EQ(testing::ReadText(dir / "own.jpg"), testing::ReadText(DataPath("images/d30.jpg")));
   EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "c.jpg") ||
                fs::exists(dir / "cat.jpg") || fs::exists(dir / "v.mp4"));
   EXPECT_TRUE(NoPartialFiles(dir));

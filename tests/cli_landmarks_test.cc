@@ -16,15 +16,11 @@ namespace fs = std::filesystem;
 using testing::DataPath;
 using testing::NoPartialFiles;
 using testing::Quote;
+using testing::ReadText;
 using testing::RunCli;
 using testing::RunCommand;
 using testing::ScratchDir;
 using testing::WriteSelectedFrames;
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(stream), {});
-}
 
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 
@@ -101,6 +103,11 @@ TurnedPhoto TurnPhoto(const cv::Mat& image, double degrees) {
   turned.map = cv::Matx23d(map);
   cv::warpAffine(image, turned.image, map, cv::Size(static_cast<int>(std::ceil(bounds.width)), static_cast<int>(std::ceil(bounds.height))));
   return turned;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream stream(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(stream), {});
 }
 
 fs::path ScratchDir(const std::string& name) {

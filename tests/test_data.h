@@ -60,6 +60,9 @@ struct TurnedPhoto {
 };
 TurnedPhoto TurnPhoto(const cv::Mat& image, double degrees);
 
+// A file's bytes.
+std::string ReadText(const std::filesystem::path& path);
+
 // A fresh folder under the build tree's temp dir, removed with the process.
 std::filesystem::path ScratchDir(const std::string& name);
 // The gazedirector program built beside the tests.

@@ -7,6 +7,7 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include "gazedirector/io/atomic_output.h"
 #include "gazedirector/io/media.h"
 #include "gazedirector/util/error.h"
 
@@ -59,8 +60,9 @@ bool IsImagePath(const std::filesystem::path& path) {
          extension == ".tif" || extension == ".tiff" || extension == ".webp";
 }
 
-void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind) {
+void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind, const std::string& input) {
   if (path.empty()) return;
+  RequireNotAnInput(path, {input});
   if (kind == MediaKind::kImage && !IsImagePath(path)) {
     Fail(ExitCode::kUsage, "{} {}: an image's output is an image (.png or .jpg)", option, path);
   }
@@ -70,10 +72,10 @@ void RequireOutputKind(const std::string& path, const std::string& option, Media
 }
 
 void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
-                            MediaKind kind) {
+                            MediaKind kind, const std::string& input) {
   RequireExtension(output, "-o", {".json", ".jsonl"});
   if (!csv.empty()) RequireExtension(csv, "--csv", {".csv"});
-  RequireOutputKind(overlay, "--overlay", kind);
+  RequireOutputKind(overlay, "--overlay", kind, input);
 }
 
 void WarnIfTruncated(const VideoReader& reader, const std::string& input) {

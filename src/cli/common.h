@@ -50,12 +50,14 @@ void RequireExtension(const std::filesystem::path& path, const std::string& opti
                       const std::vector<std::string>& allowed);
 bool IsImagePath(const std::filesystem::path& path);
 // Fails with a usage error unless `path` (given as `option`) suits the input's
-// kind: an image for an image, a video for a video. Empty paths pass.
-void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind);
+// kind: an image for an image, a video for a video, and with an output error
+// when it is the input itself. Empty paths pass.
+void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind, const std::string& input);
 // The outputs of the analysis commands (landmarks, track): -o JSON or JSON
-// lines, --csv a CSV, --overlay of the input's kind (optional ones may be empty).
+// lines, --csv a CSV, --overlay of the input's kind (optional ones may be
+// empty), none of them the input.
 void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
-                            MediaKind kind);
+                            MediaKind kind, const std::string& input);
 // Warns when a video stopped before the frame count its container announced.
 void WarnIfTruncated(const VideoReader& reader, const std::string& input);
 

@@ -122,7 +122,7 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
 int RunLandmarks(const LandmarksOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
-  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind);
+  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
   const Assets assets = Assets::Resolve(options.common.assets);
   FaceTrackerOptions tracker_options;
   tracker_options.largest_only = options.largest;

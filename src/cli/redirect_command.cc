@@ -334,7 +334,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
 int RunRedirect(const RedirectCommandOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
-  RequireOutputKind(options.output, "-o", kind);
+  RequireOutputKind(options.output, "-o", kind, options.input);
   if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
     Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
   }

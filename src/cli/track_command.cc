@@ -174,7 +174,7 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
 int RunTrack(const TrackOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
-  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind);
+  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
   if (!options.eye_patch.empty() && kind != MediaKind::kImage) {
     Fail(ExitCode::kUsage, "--eye-patch takes an image of one eye, not a video");
   }

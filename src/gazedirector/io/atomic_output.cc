@@ -10,15 +10,20 @@
 namespace gazedirector {
 namespace fs = std::filesystem;
 
+void RequireNotAnInput(const fs::path& path, const std::vector<fs::path>& inputs) {
+  std::error_code ec;
+  for (const fs::path& input : inputs) {
+    if (!path.empty() && fs::exists(path, ec) && fs::equivalent(path, input, ec)) {
+      Fail(ExitCode::kOutput, "refusing to overwrite the input {}; choose another output path", path.string());
+    }
+  }
+}
+
 AtomicOutput::AtomicOutput(const fs::path& path, const std::vector<fs::path>& inputs) : path_(path) {
   if (path.empty()) Fail(ExitCode::kOutput, "empty output path");
   std::error_code ec;
   if (fs::is_directory(path, ec)) Fail(ExitCode::kOutput, "cannot write {}: it is a folder", path.string());
-  for (const fs::path& input : inputs) {
-    if (fs::exists(path, ec) && fs::equivalent(path, input, ec)) {
-      Fail(ExitCode::kOutput, "refusing to overwrite the input {}; choose another output path", path.string());
-    }
-  }
+  RequireNotAnInput(path, inputs);
   const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
   fs::create_directories(parent, ec);
   if (!fs::is_directory(parent)) Fail(ExitCode::kOutput, "cannot create the output folder {}", parent.string());

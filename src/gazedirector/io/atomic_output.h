@@ -30,6 +30,11 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+// Fails (ExitCode::kOutput) when `path` names one of `inputs` (the same file,
+// through any link), which are never modified; AtomicOutput checks this too,
+// but commands check their outputs before the work, not after it.
+void RequireNotAnInput(const std::filesystem::path& path, const std::vector<std::filesystem::path>& inputs);
+
 // Writes `text` to `path` atomically.
 void WriteTextFile(const std::filesystem::path& path, const std::string& text,
                    const std::vector<std::filesystem::path>& inputs = {});
