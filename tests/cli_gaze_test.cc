@@ -269,6 +269,25 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 
+// `eval iris` measures a photo's fits as tracked now or as stored by `track`,
+// and refuses another photo's fits.
+TEST(CliGazeTest, EvalIrisMeasuresTrackedAndStoredFits) {
+  const fs::path dir = ScratchDir("cli_eval_iris");
+  const std::string photo = Quote(DataPath("images/d30.jpg"));
+  std::string output;
+  ASSERT_EQ(RunCli("eval iris " + photo + " --json", &output), 0) << output;
+  const nlohmann::json now = nlohmann::json::parse(output.substr(output.find('{')));
+  EXPECT_EQ(now["eyes"], 2);
+  EXPECT_LT(now["median"].get<double>(), 0.45);  // 0.33: both fitted irises on the photo's
+  ASSERT_EQ(RunCli("track " + photo + " -o " + Quote(dir / "d30.jsonl"), &output), 0) << output;
+  ASSERT_EQ(RunCli("eval iris " + photo + " --fits " + Quote(dir / "d30.jsonl") + " --json", &output), 0) << output;
+  const nlohmann::json stored = nlohmann::json::parse(output.substr(output.find('{')));
+  EXPECT_NEAR(stored["median"].get<double>(), now["median"].get<double>(), 1e-3);
+  EXPECT_EQ(RunCli("eval iris " + Quote(DataPath("images/d19.jpg")) + " --fits " + Quote(dir / "d30.jsonl"), &output), 4)
+      << output;
+  EXPECT_NE(output.find("the fits were made on"), std::string::npos) << output;
+}
+
 TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   const fs::path dir = ScratchDir("cli_redirect_bad");
   std::string output;

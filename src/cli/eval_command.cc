@@ -11,6 +11,8 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/common.h"
+#include "cli/fitting.h"
+#include "gazedirector/eval/iris_alignment.h"
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/eval/redirect_columbia.h"
 #include "gazedirector/redirect/gaze_target.h"
@@ -18,6 +20,8 @@
 #include "gazedirector/eval/landmark_accuracy.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/text_writer.h"
+#include "gazedirector/io/video_reader.h"
+#include "gazedirector/util/interrupt.h"
 #include "gazedirector/util/progress.h"
 #include "gazedirector/util/statistics.h"
 #include "gazedirector/util/timer.h"
@@ -49,6 +53,10 @@ struct EvalOptions {
   std::string out_dir;
   RedirectColumbiaOptions redirect;
   std::string cdf_plot = "eval_redirect_columbia.png";
+  std::string iris_input;
+  std::string iris_fits;
+  FittingOptions fitting;
+  CameraOptions camera;
 };
 
 // Mean and median absolute yaw and pitch errors of a set of estimates
@@ -549,6 +557,80 @@ int RunLandmarkEval(const EvalOptions& options) {
   return 0;
 }
 
+// The fits of one frame: read from a fits file, or tracked now.
+std::vector<StoredFit> FitsOfFrame(const std::optional<FitsFile>& stored, long index, const cv::Mat& frame,
+                                   double timestamp_s, const Camera& camera, GazeTracker& tracker, bool video) {
+  if (stored) {
+    const auto found = stored->frames.find(index);
+    return found == stored->frames.end() ? std::vector<StoredFit>() : found->second.faces;
+  }
+  std::vector<StoredFit> fits;
+  const std::vector<FaceFit> tracked = video ? tracker.ProcessFrame(frame, timestamp_s, camera) : tracker.ProcessImage(frame, camera);
+  for (const FaceFit& fit : tracked) {
+    StoredFit stored_fit{fit.face.id, fit.fit.phi, fit.fit.good, fit.fit.note, fit.eyes};
+    stored_fit.eyes_closed = fit.eyes_closed;
+    fits.push_back(stored_fit);
+  }
+  return fits;
+}
+
+int RunIrisEval(const EvalOptions& options) {
+  ApplyLogLevel(options.common);
+  const MediaKind kind = DetectMediaKind(options.iris_input);
+  std::optional<FitsFile> stored;
+  if (!options.iris_fits.empty()) stored = ReadFits(options.iris_fits);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  GazeTracker tracker = setup.MakeTracker();
+  Renderer renderer(setup.model);
+  std::vector<double> distances;
+  long frames = 0, evaluated = 0;
+  auto evaluate = [&](const cv::Mat& frame, long index, double timestamp_s, const Camera& camera) {
+    const std::vector<StoredFit> fits = FitsOfFrame(stored, index, frame, timestamp_s, camera, tracker, kind == MediaKind::kVideo);
+    if (index % options.every != 0) return;
+    ++evaluated;
+    for (const StoredFit& fit : fits) {
+      if (fit.eyes_closed) continue;
+      for (double d : IrisMisalignment(frame, camera, fit.phi, fit.eyes, renderer)) {
+        if (std::isfinite(d)) distances.push_back(d);
+      }
+    }
+  };
+  auto camera_for = [&](int width, int height) {
+    if (stored) RequireFitsOfSize(*stored, width, height);
+    return stored && stored->camera ? *stored->camera : options.camera.Resolve(width, height);
+  };
+  if (kind == MediaKind::kImage) {
+    const cv::Mat image = ReadSourceImage(options.iris_input).bgr;
+    evaluate(image, 0, 0.0, camera_for(image.cols, image.rows));
+    frames = 1;
+  } else {
+    VideoReader reader(options.iris_input);
+    const Camera camera = camera_for(reader.info().width, reader.info().height);
+    Progress progress("eval iris", reader.info().frame_count, "frames", options.common.quiet || options.json);
+    cv::Mat frame;
+    while (reader.Read(frame)) {
+      ThrowIfInterrupted();
+      evaluate(frame, reader.frame_index(), reader.timestamp_s(), camera);
+      progress.Update(reader.frame_index() + 1);
+    }
+    progress.Finish();
+    frames = reader.frame_index() + 1;
+  }
+  if (distances.empty()) Fail(ExitCode::kNoFace, "no open fitted eye in {}", options.iris_input);
+  const double median = Median(distances), p90 = Quantile(distances, 0.9), mean = Mean(distances);
+  if (options.json) {
+    fmt::print("{}\n", nlohmann::json{{"frames", frames}, {"frames_evaluated", evaluated}, {"eyes", distances.size()},
+                                      {"median", median}, {"p90", p90}, {"mean", mean}}
+                           .dump());
+    return 0;
+  }
+  fmt::print("fitted iris to the photo's darkest eyeball pixels, in iris radii ({}; {} of {} frames, {} open eyes{})\n",
+             options.iris_input, evaluated, frames, distances.size(), stored ? ", fits from " + options.iris_fits : "");
+  fmt::print("  median {:.2f}   90th percentile {:.2f}   mean {:.2f}\n", median, p90, mean);
+  fmt::print("  (about 0.1-0.4 on the iris; 1 or more: the fit lost it)\n");
+  return 0;
+}
+
 }  // namespace
 
 Command RegisterEvalCommand(CLI::App& root) {
@@ -610,10 +692,22 @@ Command RegisterEvalCommand(CLI::App& root) {
       ->check(CLI::Range(0.0, 2.0))
       ->capture_default_str();
   AddCommonOptions(*redirect, options->common);
-  return {app, [options, landmarks, columbia, redirect] {
+
+  CLI::App* iris = app->add_subcommand(
+      "iris", "How far each fitted iris sits from the photo's own (no labels): images and videos");
+  iris->add_option("input", options->iris_input, "Image or video")->required();
+  iris->add_option("--fits", options->iris_fits, "Fits from `gazedirector track` of this input (default: track it now)");
+  iris->add_option("--every", options->every, "Measure every Nth frame (a video is still tracked frame by frame)")
+      ->check(CLI::Range(1, 1000000));
+  iris->add_flag("--json", options->json, "Print one JSON object");
+  AddFittingOptions(*iris, options->fitting);
+  AddCameraOptions(*iris, options->camera);
+  AddCommonOptions(*iris, options->common);
+  return {app, [options, landmarks, columbia, redirect, iris] {
             if (landmarks->parsed()) return RunLandmarkEval(*options);
             if (columbia->parsed()) return RunColumbiaEval(*options);
             if (redirect->parsed()) return RunRedirectColumbiaEval(*options);
+            if (iris->parsed()) return RunIrisEval(*options);
             return static_cast<int>(ExitCode::kUsage);
           }};
 }

@@ -32,4 +32,11 @@ GazeTracker FittingSetup::MakeTracker() const {
   return GazeTracker(model, landmarks, mean_face, tracker_options, nullptr, largest);
 }
 
+void RequireFitsOfSize(const FitsFile& fits, int width, int height) {
+  if (fits.camera && (fits.camera->width != width || fits.camera->height != height)) {
+    Fail(ExitCode::kBadInput, "the fits were made on {}x{} frames, the input has {}x{}", fits.camera->width,
+         fits.camera->height, width, height);
+  }
+}
+
 }  // namespace gazedirector::cli

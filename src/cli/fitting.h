@@ -9,6 +9,7 @@
 #include "cli/common.h"
 #include "gazedirector/face/landmark_detector.h"
 #include "gazedirector/face/mean_face.h"
+#include "gazedirector/io/fit_io.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/video/gaze_tracker.h"
 
@@ -33,5 +34,9 @@ struct FittingSetup {
   static FittingSetup Create(const CommonOptions& common, const FittingOptions& options);
   GazeTracker MakeTracker() const;
 };
+
+// Fails with a bad-input error when `fits` were made on frames of another
+// size: they belong to another input, whose eyes sit elsewhere.
+void RequireFitsOfSize(const FitsFile& fits, int width, int height);
 
 }  // namespace gazedirector::cli

@@ -117,14 +117,6 @@ std::string EyeList(const std::array<bool, 2>& eyes) {
   return "no eye";
 }
 
-// Fits of frames of another size belong to another input: their eyes would be drawn in the wrong places.
-void RequireFitsOfSize(const FitsFile& fits, int width, int height) {
-  if (fits.camera && (fits.camera->width != width || fits.camera->height != height)) {
-    Fail(ExitCode::kBadInput, "the fits were made on {}x{} frames, the input has {}x{}", fits.camera->width,
-         fits.camera->height, width, height);
-  }
-}
-
 int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const SourceImage source = ReadSourceImage(options.input);
