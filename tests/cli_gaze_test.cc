@@ -280,9 +280,18 @@ TEST(CliGazeTest, EvalIrisMeasuresTrackedAndStoredFits) {
   EXPECT_EQ(now["eyes"], 2);
   EXPECT_LT(now["median"].get<double>(), 0.45);  // 0.33: both fitted irises on the photo's
   ASSERT_EQ(RunCli("track " + photo + " -o " + Quote(dir / "d30.jsonl"), &output), 0) << output;
-  ASSERT_EQ(RunCli("eval iris " + photo + " --fits " + Quote(dir / "d30.jsonl") + " --json", &output), 0) << output;
+  ASSERT_EQ(RunCli("eval iris " + photo + " --fits " + Quote(dir / "d30.jsonl") + " --json --csv " + Quote(dir / "eyes.csv"),
+                   &output),
+            0)
+      << output;
   const nlohmann::json stored = nlohmann::json::parse(output.substr(output.find('{')));
   EXPECT_NEAR(stored["median"].get<double>(), now["median"].get<double>(), 1e-3);
+  std::stringstream csv(testing::ReadText(dir / "eyes.csv"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(csv, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0], "frame,face_id,eye,iris_misalignment");
+  EXPECT_EQ(lines[1].rfind("0,0,left,", 0), 0u) << lines[1];
   EXPECT_EQ(RunCli("eval iris " + Quote(DataPath("images/d19.jpg")) + " --fits " + Quote(dir / "d30.jsonl"), &output), 4)
       << output;
   EXPECT_NE(output.find("the fits were made on"), std::string::npos) << output;

@@ -577,11 +577,17 @@ std::vector<StoredFit> FitsOfFrame(const std::optional<FitsFile>& stored, long i
 int RunIrisEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.iris_input);
+  if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
   std::optional<FitsFile> stored;
   if (!options.iris_fits.empty()) stored = ReadFits(options.iris_fits);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   GazeTracker tracker = setup.MakeTracker();
   Renderer renderer(setup.model);
+  std::optional<CsvWriter> csv;
+  if (!options.csv.empty()) {
+    csv.emplace(options.csv, std::vector<std::string>{"frame", "face_id", "eye", "iris_misalignment"},
+                std::vector<std::filesystem::path>{options.iris_input});
+  }
   std::vector<double> distances;
   long frames = 0, evaluated = 0;
   auto evaluate = [&](const cv::Mat& frame, long index, double timestamp_s, const Camera& camera) {
@@ -590,8 +596,14 @@ int RunIrisEval(const EvalOptions& options) {
     ++evaluated;
     for (const StoredFit& fit : fits) {
       if (fit.eyes_closed) continue;
-      for (double d : IrisMisalignment(frame, camera, fit.phi, fit.eyes, renderer)) {
-        if (std::isfinite(d)) distances.push_back(d);
+      const std::array<double, 2> misalignment = IrisMisalignment(frame, camera, fit.phi, fit.eyes, renderer);
+      for (int eye = 0; eye < 2; ++eye) {
+        if (!std::isfinite(misalignment[eye])) continue;
+        distances.push_back(misalignment[eye]);
+        if (csv) {
+          csv->AddRow({std::to_string(index), std::to_string(fit.face_id), eye == kLeftEye ? "left" : "right",
+                       fmt::format("{:.4f}", misalignment[eye])});
+        }
       }
     }
   };
@@ -617,6 +629,7 @@ int RunIrisEval(const EvalOptions& options) {
     frames = reader.frame_index() + 1;
   }
   if (distances.empty()) Fail(ExitCode::kNoFace, "no open fitted eye in {}", options.iris_input);
+  if (csv) csv->Finish();
   const double median = Median(distances), p90 = Quantile(distances, 0.9), mean = Mean(distances);
   if (options.json) {
     fmt::print("{}\n", nlohmann::json{{"frames", frames}, {"frames_evaluated", evaluated}, {"eyes", distances.size()},
@@ -628,6 +641,7 @@ int RunIrisEval(const EvalOptions& options) {
              options.iris_input, evaluated, frames, distances.size(), stored ? ", fits from " + options.iris_fits : "");
   fmt::print("  median {:.2f}   90th percentile {:.2f}   mean {:.2f}\n", median, p90, mean);
   fmt::print("  (about 0.1-0.4 on the iris; 1 or more: the fit lost it)\n");
+  if (csv) fmt::print("each eye: {}\n", options.csv);
   return 0;
 }
 
@@ -700,6 +714,7 @@ Command RegisterEvalCommand(CLI::App& root) {
   iris->add_option("--every", options->every, "Measure every Nth frame (a video is still tracked frame by frame)")
       ->check(CLI::Range(1, 1000000));
   iris->add_flag("--json", options->json, "Print one JSON object");
+  iris->add_option("--csv", options->csv, "Write each measured eye's distance here (frame, face_id, eye, iris_misalignment)");
   AddFittingOptions(*iris, options->fitting);
   AddCameraOptions(*iris, options->camera);
   AddCommonOptions(*iris, options->common);
