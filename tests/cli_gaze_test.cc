@@ -269,6 +269,30 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 
+// s42.jpg's fit puts its image-right iris about one iris radius off the
+// photo's (the vergence prior holds her converging eyes parallel), which
+// redirected to the camera breaks that iris: the face is left as it was,
+// unless the check is turned off.
+TEST(CliGazeTest, RedirectLeavesAFaceWhoseFittedIrisIsOffItsEye) {
+  const fs::path dir = ScratchDir("cli_redirect_iris_offset");
+  const fs::path photo = DataPath("images/s42.jpg");
+  std::string output;
+  ASSERT_EQ(RunCli("redirect " + Quote(photo) + " -o " + Quote(dir / "kept.png"), &output), 0) << output;
+  EXPECT_NE(output.find("left untouched: a fitted iris sits"), std::string::npos) << output;
+  EXPECT_NE(output.find("0 of 1 face redirected"), std::string::npos) << output;
+  const cv::Mat input = ReadImage(photo);
+  cv::Mat difference;
+  cv::absdiff(ReadImage(dir / "kept.png"), input, difference);
+  EXPECT_EQ(cv::countNonZero(difference.reshape(1)), 0);
+  ASSERT_EQ(RunCli("redirect " + Quote(photo) + " -o " + Quote(dir / "forced.png") + " --max-iris-offset 0", &output), 0)
+      << output;
+  EXPECT_NE(output.find("1 of 1 face redirected"), std::string::npos) << output;
+  cv::absdiff(ReadImage(dir / "forced.png"), input, difference);
+  EXPECT_GT(cv::countNonZero(difference.reshape(1)), 100);
+  EXPECT_EQ(RunCli("redirect " + Quote(photo) + " -o " + Quote(dir / "bad.png") + " --max-iris-offset -1", &output), 2)
+      << output;
+}
+
 // `eval iris` measures a photo's fits as tracked now or as stored by `track`,
 // and refuses another photo's fits.
 TEST(CliGazeTest, EvalIrisMeasuresTrackedAndStoredFits) {

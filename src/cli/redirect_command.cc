@@ -14,6 +14,7 @@
 
 #include "cli/common.h"
 #include "cli/fitting.h"
+#include "gazedirector/eval/iris_alignment.h"
 #include "gazedirector/io/fit_io.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/media.h"
@@ -29,6 +30,13 @@
 
 namespace gazedirector::cli {
 namespace {
+
+// Fitted irises more than this many iris radii from the photo's own are left
+// alone: in session 56, d10 and d14 frames above 0.6 redirected to the camera
+// showed broken irises (white patches, a second iris edge) in every case
+// looked at, while fits on the iris read 0.1-0.45; d3's frames at 0.6-0.7
+// (narrowed eyes, two glances) redirected acceptably, so the line is 0.7.
+constexpr double kDefaultMaxIrisOffset = 0.7;
 
 struct RedirectCommandOptions {
   CommonOptions common;
@@ -47,6 +55,7 @@ struct RedirectCommandOptions {
   bool rendered_eyeballs = false;
   bool no_eyelids = false;
   bool refit = false;
+  double max_iris_offset = kDefaultMaxIrisOffset;
 };
 
 GazeScript ParseTarget(const RedirectCommandOptions& options) {
@@ -117,6 +126,20 @@ std::string EyeList(const std::array<bool, 2>& eyes) {
   return "no eye";
 }
 
+// The larger of a fit's two iris misalignments (eval iris), 0 where neither
+// eye shows enough eyeball to tell.
+double WorstIrisOffset(const cv::Mat& image, const Camera& camera, const StoredFit& fit, Renderer& renderer) {
+  double worst = 0;
+  for (double offset : IrisMisalignment(image, camera, fit.phi, fit.eyes, renderer)) {
+    if (std::isfinite(offset)) worst = std::max(worst, offset);
+  }
+  return worst;
+}
+
+bool IrisOffTooFar(double offset, const RedirectCommandOptions& options) {
+  return options.max_iris_offset > 0 && offset > options.max_iris_offset;
+}
+
 int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const SourceImage source = ReadSourceImage(options.input);
@@ -147,6 +170,13 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
   for (const StoredFit& fit : fits) {
     if (!fit.good) {
       spdlog::warn("face {}: left untouched: the fit is poor ({})", fit.face_id, fit.note);
+      continue;
+    }
+    const double offset = WorstIrisOffset(image, camera, fit, renderer);
+    if (IrisOffTooFar(offset, options)) {
+      spdlog::warn("face {}: left untouched: a fitted iris sits {:.2f} iris radii from the photo's (over "
+                   "--max-iris-offset {:g}); redirected it would show a broken iris",
+                   fit.face_id, offset, options.max_iris_offset);
       continue;
     }
     const Parameters target = script.TargetAt(fit.phi, 0);
@@ -218,24 +248,56 @@ bool CacheMatches(const std::filesystem::path& fits_path, const std::filesystem:
   }
 }
 
+// Per frame and face, the larger of the fit's two iris misalignments: a pass
+// over the video's frames, which the fits alone do not hold.
+using FaceValues = std::map<long, std::map<int, double>>;
+FaceValues IrisOffsets(const RedirectCommandOptions& options, const FitsFile& fits, const Camera& camera,
+                       std::shared_ptr<const EyeRegionModel> model) {
+  FaceValues offsets;
+  if (options.max_iris_offset <= 0) return offsets;
+  VideoReader reader(options.input);
+  Renderer renderer(std::move(model));
+  Progress progress("check fits", reader.info().frame_count, "frames", options.common.quiet);
+  cv::Mat frame;
+  while (reader.Read(frame)) {
+    ThrowIfInterrupted();
+    const auto stored = fits.frames.find(reader.frame_index());
+    if (stored == fits.frames.end()) continue;
+    for (const StoredFit& fit : stored->second.faces) {
+      if (!fit.eyes_closed) offsets[reader.frame_index()][fit.face_id] = WorstIrisOffset(frame, camera, fit, renderer);
+    }
+    progress.Update(reader.frame_index() + 1);
+  }
+  progress.Finish();
+  return offsets;
+}
+
 // Per face and frame, how much of the redirection to apply: 0 while an eye
-// is closed (blinks are kept as they were), easing back to 1 over
-// `handover_s` on either side.
-std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, double handover_s, double closed_deg) {
-  std::map<int, std::vector<double>> closed_times;  // by face, in frame order
+// is closed (blinks are kept as they were) or a fitted iris is off the
+// photo's by more than --max-iris-offset (kept rather than broken), easing
+// back to 1 over `handover_s` on either side.
+FaceValues RedirectionWeights(const FitsFile& fits, double handover_s, double closed_deg, const FaceValues& offsets,
+                              const RedirectCommandOptions& options) {
+  std::map<int, std::vector<double>> held_times;  // by face, in frame order
   for (const auto& [index, frame] : fits.frames) {
+    const auto frame_offsets = offsets.find(index);
     for (const StoredFit& fit : frame.faces) {
-      if (fit.eyes_closed || fit.phi.eyelid_closure() > closed_deg) closed_times[fit.face_id].push_back(frame.timestamp_s);
+      bool off = false;
+      if (frame_offsets != offsets.end()) {
+        const auto offset = frame_offsets->second.find(fit.face_id);
+        off = offset != frame_offsets->second.end() && IrisOffTooFar(offset->second, options);
+      }
+      if (fit.eyes_closed || off || fit.phi.eyelid_closure() > closed_deg) held_times[fit.face_id].push_back(frame.timestamp_s);
     }
   }
-  std::map<long, std::map<int, double>> weights;
+  FaceValues weights;
   for (const auto& [index, frame] : fits.frames) {
     for (const StoredFit& fit : frame.faces) {
       double nearest = 1e9;
-      const std::vector<double>& closed = closed_times[fit.face_id];
-      auto it = std::lower_bound(closed.begin(), closed.end(), frame.timestamp_s);
-      if (it != closed.end()) nearest = std::min(nearest, *it - frame.timestamp_s);
-      if (it != closed.begin()) nearest = std::min(nearest, frame.timestamp_s - *std::prev(it));
+      const std::vector<double>& held = held_times[fit.face_id];
+      auto it = std::lower_bound(held.begin(), held.end(), frame.timestamp_s);
+      if (it != held.end()) nearest = std::min(nearest, *it - frame.timestamp_s);
+      if (it != held.begin()) nearest = std::min(nearest, frame.timestamp_s - *std::prev(it));
       const double t = std::clamp(nearest / handover_s, 0.0, 1.0);
       weights[index][fit.face_id] = t * t * (3 - 2 * t);
     }
@@ -276,7 +338,12 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   }
   RequireFitsOfSize(fits, info.width, info.height);
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
-  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg);
+  const FaceValues offsets = IrisOffsets(options, fits, camera, setup.model);
+  long off_fits = 0;
+  for (const auto& [index, faces] : offsets) {
+    for (const auto& [face, offset] : faces) off_fits += IrisOffTooFar(offset, options) ? 1 : 0;
+  }
+  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, offsets, options);
 
   // Stage 2: re-render every frame.
   const int out_width = options.side_by_side ? 2 * info.width : info.width;
@@ -318,8 +385,10 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   progress.Finish();
   WarnIfTruncated(reader, options.input);
   writer.Finish();
-  spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits left untouched) -> {}", options.input,
-               redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, options.output);
+  spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
+               "untouched) -> {}",
+               options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, off_fits,
+               options.output);
   return 0;
 }
 
@@ -354,6 +423,11 @@ Command RegisterRedirectCommand(CLI::App& root) {
   app->add_flag("--rendered-eyeballs", options->rendered_eyeballs, "Use only rendered eyeballs (the paper), not the photo's own iris");
   app->add_flag("--no-eyelids", options->no_eyelids, "Move only the eyeballs, not the eyelids");
   app->add_flag("--refit", options->refit, "Track the video again even when stored fits exist");
+  app->add_option("--max-iris-offset", options->max_iris_offset,
+                  "Leave a face as it was (in a video: those frames, eased in and out) where a fitted iris sits more "
+                  "than this many iris radii from the photo's own (as `eval iris` measures); 0: never")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   AddFittingOptions(*app, options->fitting);
   AddCameraOptions(*app, options->camera);
   AddCommonOptions(*app, options->common);
