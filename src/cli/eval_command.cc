@@ -566,11 +566,7 @@ std::vector<StoredFit> FitsOfFrame(const std::optional<FitsFile>& stored, long i
   }
   std::vector<StoredFit> fits;
   const std::vector<FaceFit> tracked = video ? tracker.ProcessFrame(frame, timestamp_s, camera) : tracker.ProcessImage(frame, camera);
-  for (const FaceFit& fit : tracked) {
-    StoredFit stored_fit{fit.face.id, fit.fit.phi, fit.fit.good, fit.fit.note, fit.eyes};
-    stored_fit.eyes_closed = fit.eyes_closed;
-    fits.push_back(stored_fit);
-  }
+  for (const FaceFit& fit : tracked) fits.push_back(StoredFit::Of(fit));
   return fits;
 }
 

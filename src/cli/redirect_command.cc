@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -158,7 +159,7 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
   } else {
     GazeTracker tracker = setup.MakeTracker();
     for (const FaceFit& fit : tracker.ProcessImage(image, camera)) {
-      fits.push_back({fit.face.id, fit.fit.phi, fit.fit.good, fit.fit.note, fit.eyes});
+      fits.push_back(StoredFit::Of(fit));
     }
   }
   if (fits.empty()) Fail(ExitCode::kNoFace, "no face found in {}; nothing to redirect", options.input);
@@ -248,49 +249,50 @@ bool CacheMatches(const std::filesystem::path& fits_path, const std::filesystem:
   }
 }
 
-// Per frame and face, the larger of the fit's two iris misalignments: a pass
-// over the video's frames, which the fits alone do not hold.
-using FaceValues = std::map<long, std::map<int, double>>;
-FaceValues IrisOffsets(const RedirectCommandOptions& options, const FitsFile& fits, const Camera& camera,
-                       std::shared_ptr<const EyeRegionModel> model) {
-  FaceValues offsets;
-  if (options.max_iris_offset <= 0) return offsets;
+// The fits (frame, face) with an iris off the photo's by more than
+// --max-iris-offset: a pass over the video's frames, which the fits alone do
+// not hold.
+using FitKey = std::pair<long, int>;
+std::set<FitKey> FitsWithIrisOff(const RedirectCommandOptions& options, const FitsFile& fits, const Camera& camera,
+                                 std::shared_ptr<const EyeRegionModel> model) {
+  std::set<FitKey> off;
+  if (options.max_iris_offset <= 0) return off;
   VideoReader reader(options.input);
   Renderer renderer(std::move(model));
   Progress progress("check fits", reader.info().frame_count, "frames", options.common.quiet);
   cv::Mat frame;
   while (reader.Read(frame)) {
     ThrowIfInterrupted();
-    const auto stored = fits.frames.find(reader.frame_index());
-    if (stored == fits.frames.end()) continue;
-    for (const StoredFit& fit : stored->second.faces) {
-      if (!fit.eyes_closed) offsets[reader.frame_index()][fit.face_id] = WorstIrisOffset(frame, camera, fit, renderer);
+    const long index = reader.frame_index();
+    const auto stored = fits.frames.find(index);
+    if (stored != fits.frames.end()) {
+      for (const StoredFit& fit : stored->second.faces) {
+        if (!fit.eyes_closed && IrisOffTooFar(WorstIrisOffset(frame, camera, fit, renderer), options)) {
+          off.insert({index, fit.face_id});
+        }
+      }
     }
-    progress.Update(reader.frame_index() + 1);
+    progress.Update(index + 1);
   }
   progress.Finish();
-  return offsets;
+  return off;
 }
 
 // Per face and frame, how much of the redirection to apply: 0 while an eye
 // is closed (blinks are kept as they were) or a fitted iris is off the
 // photo's by more than --max-iris-offset (kept rather than broken), easing
 // back to 1 over `handover_s` on either side.
-FaceValues RedirectionWeights(const FitsFile& fits, double handover_s, double closed_deg, const FaceValues& offsets,
-                              const RedirectCommandOptions& options) {
+std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, double handover_s, double closed_deg,
+                                                         const std::set<FitKey>& iris_off) {
   std::map<int, std::vector<double>> held_times;  // by face, in frame order
   for (const auto& [index, frame] : fits.frames) {
-    const auto frame_offsets = offsets.find(index);
     for (const StoredFit& fit : frame.faces) {
-      bool off = false;
-      if (frame_offsets != offsets.end()) {
-        const auto offset = frame_offsets->second.find(fit.face_id);
-        off = offset != frame_offsets->second.end() && IrisOffTooFar(offset->second, options);
+      if (fit.eyes_closed || iris_off.contains({index, fit.face_id}) || fit.phi.eyelid_closure() > closed_deg) {
+        held_times[fit.face_id].push_back(frame.timestamp_s);
       }
-      if (fit.eyes_closed || off || fit.phi.eyelid_closure() > closed_deg) held_times[fit.face_id].push_back(frame.timestamp_s);
     }
   }
-  FaceValues weights;
+  std::map<long, std::map<int, double>> weights;
   for (const auto& [index, frame] : fits.frames) {
     for (const StoredFit& fit : frame.faces) {
       double nearest = 1e9;
@@ -338,12 +340,8 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   }
   RequireFitsOfSize(fits, info.width, info.height);
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
-  const FaceValues offsets = IrisOffsets(options, fits, camera, setup.model);
-  long off_fits = 0;
-  for (const auto& [index, faces] : offsets) {
-    for (const auto& [face, offset] : faces) off_fits += IrisOffTooFar(offset, options) ? 1 : 0;
-  }
-  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, offsets, options);
+  const std::set<FitKey> iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
+  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, iris_off);
 
   // Stage 2: re-render every frame.
   const int out_width = options.side_by_side ? 2 * info.width : info.width;
@@ -387,7 +385,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   writer.Finish();
   spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
                "untouched) -> {}",
-               options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, off_fits,
+               options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off.size(),
                options.output);
   return 0;
 }

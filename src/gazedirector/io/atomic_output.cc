@@ -12,8 +12,9 @@ namespace fs = std::filesystem;
 
 void RequireNotAnInput(const fs::path& path, const std::vector<fs::path>& inputs) {
   std::error_code ec;
+  if (path.empty() || !fs::exists(path, ec)) return;
   for (const fs::path& input : inputs) {
-    if (!path.empty() && fs::exists(path, ec) && fs::equivalent(path, input, ec)) {
+    if (fs::equivalent(path, input, ec)) {
       Fail(ExitCode::kOutput, "refusing to overwrite the input {}; choose another output path", path.string());
     }
   }

@@ -115,6 +115,10 @@ std::vector<std::string> FitCsvRow(long frame, double timestamp_s, const FaceFit
   return row;
 }
 
+StoredFit StoredFit::Of(const FaceFit& fit) {
+  return {fit.face.id, fit.fit.phi, fit.fit.good, fit.fit.note, fit.eyes, fit.eyes_closed};
+}
+
 FitsFile ReadFits(const std::filesystem::path& path) {
   std::ifstream stream(path);
   if (!stream) Fail(ExitCode::kBadInput, "{}: cannot read the fits file", path.string());

@@ -35,6 +35,9 @@ struct StoredFit {
   std::string note;
   std::array<bool, 2> eyes = {true, true};
   bool eyes_closed = false;  // the tracker saw a blink
+
+  // What a fits file would keep of a fit made now.
+  static StoredFit Of(const FaceFit& fit);
 };
 
 struct StoredFrame {
