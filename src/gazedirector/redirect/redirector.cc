@@ -119,15 +119,21 @@ class EyeColourMatch {
   // missed it by a pixel, or shadow under a lid (-1 when unknown).
   float dark_sclera() const { return dark_sclera_; }
 
+  // The photo's typical sclera colour (meaningful once sclera_known()).
+  bool sclera_known() const { return sclera_known_; }
+  const cv::Vec3f& sclera_colour() const { return sclera_colour_; }
+
   // A rendered colour as the photo's eye would show it. Sclera takes the
-  // colour of the photo's own sclera, shaded as rendered: the texture's
-  // reddish periphery, which a large turn brings into view, would read as
-  // smudged skin.
-  cv::Vec3f Match(const cv::Vec3f& rendered, bool sclera) const {
+  // colour of the photo's own sclera nearby (`photo_sclera`, see
+  // NearbySclera), shaded as rendered: the texture's reddish periphery, which
+  // a large turn brings into view, would read as smudged skin, and one colour
+  // for the whole sclera as a pale band where a lid moved.
+  cv::Vec3f Match(const cv::Vec3f& rendered, bool sclera, const cv::Vec3f& photo_sclera) const {
     if (sclera && sclera_known_) {
       // Half the rendering's contrast: its sclera darkens toward the
       // periphery, which real eyes, wet and lit from all around, hardly do.
-      return sclera_colour_ * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.1f);
+      // Never brighter than the photo's sclera there, which has the real light.
+      return photo_sclera * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.0f);
     }
     return rendered.mul(gain_[sclera]);
   }
@@ -142,6 +148,32 @@ class EyeColourMatch {
   float sclera_luminance_ = 1;
   float dark_sclera_ = -1;
 };
+
+// The photo's sclera colour near each pixel of `area`: the transferred sclera
+// pixels in `shown` blurred by `sigma` pixels and normalised by how many are
+// near, drawn toward `typical` where few are (and `typical` outside `area`).
+cv::Mat NearbySclera(const cv::Mat& transferred, const cv::Mat& shown, const cv::Rect& area, double sigma,
+                     const cv::Vec3f& typical) {
+  constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1
+  // Only sclera within 3 sigma of the area counts.
+  const int reach = static_cast<int>(std::ceil(3 * sigma));
+  const cv::Rect around =
+      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), shown.size());
+  cv::Mat sum(around.size(), CV_32FC3, cv::Scalar::all(0)), density;
+  transferred(around).copyTo(sum, shown(around));
+  shown(around).convertTo(density, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(sum, sum, cv::Size(0, 0), sigma);
+  cv::GaussianBlur(density, density, cv::Size(0, 0), sigma);
+  cv::Mat nearby(shown.size(), CV_32FC3, cv::Scalar(typical));
+  for (int y = area.y; y < area.y + area.height; ++y) {
+    for (int x = area.x; x < area.x + area.width; ++x) {
+      const cv::Point at(x - around.x, y - around.y);
+      nearby.at<cv::Vec3f>(y, x) =
+          (sum.at<cv::Vec3f>(at) + kTypicalWeight * typical) / (density.at<float>(at) + kTypicalWeight);
+    }
+  }
+  return nearby;
+}
 
 }  // namespace
 
@@ -403,6 +435,19 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (target_depth.at<float>(y, x) <= from_depth.at<float>(y, x) + margin_px) continue;
     if (Luminance(transferred.at<cv::Vec3f>(y, x)) < colours.dark_sclera()) transfer_mask.data[pixel] = 0;
   }
+  // Rendered sclera takes the colour of the photo's sclera around it, not
+  // of its lash shade.
+  cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
+  for (int pixel : target_buffers_.foreground) {
+    const int x = pixel % width, y = pixel / width;
+    const bool clear = Luminance(transferred.at<cv::Vec3f>(y, x)) >= colours.dark_sclera();
+    if (transfer_mask.data[pixel] && is_sclera(x, y) && clear) clear_sclera.data[pixel] = 255;
+  }
+  const cv::Mat photo_sclera =
+      colours.sclera_known()
+          ? NearbySclera(transferred, clear_sclera, cv::boundingRect(eyeball_mask),
+                         std::max(1.0, options_.sclera_colour_reach * interocular_px), colours.sclera_colour())
+          : cv::Mat();
   // The photo's share, feathered across the boundary with the rendering only:
   // blurred within the eyeball mask (normalised), so that the mask's own edge,
   // where the photo continues outside, does not fade into the rendering.
@@ -420,7 +465,9 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       if (!eyeball_mask.at<uchar>(y, x)) continue;
       const float w = transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
       const cv::Vec3f plain = rendered.at<cv::Vec3f>(y, x);
-      cv::Vec3f colour = colours.Match(plain, is_sclera(x, y));
+      const bool sclera = is_sclera(x, y);
+      const cv::Vec3f around = sclera && colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
+      cv::Vec3f colour = colours.Match(plain, sclera, around);
       colour = w * transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
       if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;

@@ -28,6 +28,9 @@ struct RedirectOptions {
   // new lids (the iris, dark itself, is reused anywhere).
   double margin_band = 0.02;
   double seam_blur = 0.012;         // Gaussian sigma of the eyeball seam, as a fraction of the interocular distance in pixels
+  // Rendered sclera takes the colour of the photo's sclera within about this
+  // fraction of the interocular distance (a Gaussian sigma).
+  double sclera_colour_reach = 0.03;
   // An eye counts as closed (and is left alone) when less of its eyeball shows
   // than this fraction of its eye opening when open.
   double min_open_fraction = 0.15;

@@ -150,6 +150,53 @@ TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
   }
 }
 
+// How much brighter, in grey levels, rendered sclera pixels are than the
+// transferred sclera pixels beside them (4-neighbours) in the composited
+// eyeball layer, on average.
+double ScleraSeamStep(const RedirectLayers& layers) {
+  cv::Mat grey;
+  cv::cvtColor(layers.eyeball_layer, grey, cv::COLOR_BGR2GRAY);
+  auto sclera = [&](int x, int y) { return layers.sclera_mask.at<uchar>(y, x) != 0; };
+  auto transferred = [&](int x, int y) { return layers.transfer_mask.at<uchar>(y, x) != 0; };
+  double step = 0;
+  int pairs = 0;
+  for (int y = 1; y + 1 < grey.rows; ++y) {
+    for (int x = 1; x + 1 < grey.cols; ++x) {
+      if (!sclera(x, y) || transferred(x, y)) continue;
+      for (const cv::Point d : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+        if (!sclera(x + d.x, y + d.y) || !transferred(x + d.x, y + d.y)) continue;
+        step += double(grey.at<uchar>(y, x)) - grey.at<uchar>(y + d.y, x + d.x);
+        ++pairs;
+      }
+    }
+  }
+  EXPECT_GT(pairs, 20);
+  return pairs > 0 ? step / pairs : 0;
+}
+
+// Where the new gaze shows sclera the photo did not (below the iris looking
+// up, beside it looking aside), the rendered sclera must continue the
+// photo's sclera beside it, not draw a pale band of the eye's typical white:
+// 5.5 / 11.1 / 18.3 grey levels brighter when it took the typical colour
+// shaded up to 10% brighter, 0.8 / 6.4 / 13.1 now.
+TEST(RedirectorTest, RenderedScleraContinuesThePhotosSclera) {
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
+  double mean_step = 0;
+  for (const auto& [pitch, yaw] : {std::pair(15.0, 0.0), std::pair(0.0, 25.0), std::pair(0.0, -25.0)}) {
+    RedirectLayers layers;
+    cv::Mat result = p.image.clone();
+    const RedirectReport report =
+        redirector.Redirect(result, p.camera, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(pitch, yaw)), &layers);
+    ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
+    const double step = ScleraSeamStep(layers);
+    std::printf("pitch %+.0f yaw %+.0f: rendered sclera %.1f grey levels brighter than the photo's beside it\n", pitch,
+                yaw, step);
+    mean_step += step / 3;
+  }
+  EXPECT_LT(mean_step, 9.0);
+}
+
 TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
