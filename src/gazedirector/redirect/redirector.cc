@@ -149,27 +149,34 @@ class EyeColourMatch {
   float dark_sclera_ = -1;
 };
 
+// `image` blurred by a Gaussian of `sigma`, computed only where it is needed
+// to be right within `area` (the new eyeballs, a small part of the region).
+cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) {
+  const int reach = static_cast<int>(std::ceil(3 * sigma));
+  const cv::Rect around =
+      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), image.size());
+  cv::Mat blurred = cv::Mat::zeros(image.size(), image.type());
+  cv::Mat part = blurred(around);
+  cv::GaussianBlur(image(around), part, cv::Size(0, 0), sigma);
+  return blurred;
+}
+
 // The photo's sclera colour near each pixel of `area`: the transferred sclera
 // pixels in `shown` blurred by `sigma` pixels and normalised by how many are
 // near, drawn toward `typical` where few are (and `typical` outside `area`).
 cv::Mat NearbySclera(const cv::Mat& transferred, const cv::Mat& shown, const cv::Rect& area, double sigma,
                      const cv::Vec3f& typical) {
   constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1
-  // Only sclera within 3 sigma of the area counts.
-  const int reach = static_cast<int>(std::ceil(3 * sigma));
-  const cv::Rect around =
-      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), shown.size());
-  cv::Mat sum(around.size(), CV_32FC3, cv::Scalar::all(0)), density;
-  transferred(around).copyTo(sum, shown(around));
-  shown(around).convertTo(density, CV_32F, 1.0 / 255);
-  cv::GaussianBlur(sum, sum, cv::Size(0, 0), sigma);
-  cv::GaussianBlur(density, density, cv::Size(0, 0), sigma);
+  cv::Mat sum(transferred.size(), CV_32FC3, cv::Scalar::all(0)), density;
+  transferred.copyTo(sum, shown);
+  shown.convertTo(density, CV_32F, 1.0 / 255);
+  sum = BlurredWithin(sum, area, sigma);
+  density = BlurredWithin(density, area, sigma);
   cv::Mat nearby(shown.size(), CV_32FC3, cv::Scalar(typical));
   for (int y = area.y; y < area.y + area.height; ++y) {
     for (int x = area.x; x < area.x + area.width; ++x) {
-      const cv::Point at(x - around.x, y - around.y);
       nearby.at<cv::Vec3f>(y, x) =
-          (sum.at<cv::Vec3f>(at) + kTypicalWeight * typical) / (density.at<float>(at) + kTypicalWeight);
+          (sum.at<cv::Vec3f>(y, x) + kTypicalWeight * typical) / (density.at<float>(y, x) + kTypicalWeight);
     }
   }
   return nearby;
@@ -435,6 +442,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (target_depth.at<float>(y, x) <= from_depth.at<float>(y, x) + margin_px) continue;
     if (Luminance(transferred.at<cv::Vec3f>(y, x)) < colours.dark_sclera()) transfer_mask.data[pixel] = 0;
   }
+  const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   // Rendered sclera takes the colour of the photo's sclera around it, not
   // of its lash shade.
   cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
@@ -445,7 +453,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   }
   const cv::Mat photo_sclera =
       colours.sclera_known()
-          ? NearbySclera(transferred, clear_sclera, cv::boundingRect(eyeball_mask),
+          ? NearbySclera(transferred, clear_sclera, eyeballs_area,
                          std::max(1.0, options_.sclera_colour_reach * interocular_px), colours.sclera_colour())
           : cv::Mat();
   // The photo's share, feathered across the boundary with the rendering only:
@@ -454,10 +462,11 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
   transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
-  cv::GaussianBlur(transfer_weight, transfer_weight, cv::Size(0, 0), 0.8);
-  cv::GaussianBlur(eyeball_weight, eyeball_share, cv::Size(0, 0), 0.8);
+  const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
+  transfer_weight = BlurredWithin(transfer_weight, eyeballs_area, feather);
+  eyeball_share = BlurredWithin(eyeball_weight, eyeballs_area, feather);
   transfer_weight /= cv::max(eyeball_share, 1e-3f);
-  cv::GaussianBlur(eyeball_weight, seam_alpha, cv::Size(0, 0), std::max(0.5, options_.seam_blur * interocular_px));
+  seam_alpha = BlurredWithin(eyeball_weight, eyeballs_area, std::max(0.5, options_.seam_blur * interocular_px));
 
   cv::Mat eyeball_layer = warped.clone(), out = warped.clone();
   for (int y = 0; y < region.height; ++y) {

@@ -31,6 +31,9 @@ struct RedirectOptions {
   // Rendered sclera takes the colour of the photo's sclera within about this
   // fraction of the interocular distance (a Gaussian sigma).
   double sclera_colour_reach = 0.03;
+  // The photo's share of the new eyeballs fades into the rendering over this
+  // fraction of the interocular distance (a Gaussian sigma, at least 0.8 px).
+  double transfer_feather = 0.02;
   // An eye counts as closed (and is left alone) when less of its eyeball shows
   // than this fraction of its eye opening when open.
   double min_open_fraction = 0.15;

@@ -178,7 +178,7 @@ double ScleraSeamStep(const RedirectLayers& layers) {
 // up, beside it looking aside), the rendered sclera must continue the
 // photo's sclera beside it, not draw a pale band of the eye's typical white:
 // 5.5 / 11.1 / 18.3 grey levels brighter when it took the typical colour
-// shaded up to 10% brighter, 0.8 / 6.4 / 13.1 now.
+// shaded up to 10% brighter, 1.0 / 5.7 / 10.3 now.
 TEST(RedirectorTest, RenderedScleraContinuesThePhotosSclera) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
