@@ -435,22 +435,20 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // new opening it would draw streaks across the white, which the rendering
   // fills. Dark "sclera" that stays as deep as it was is left alone: it is
   // where the fit's iris was smaller than the photo's, and an eye that barely
-  // moves must keep its iris.
-  for (int pixel : target_buffers_.foreground) {
-    const int x = pixel % width, y = pixel / width;
-    if (!transfer_mask.data[pixel] || !is_sclera(x, y) || target_depth.at<float>(y, x) <= margin_px) continue;
-    if (target_depth.at<float>(y, x) <= from_depth.at<float>(y, x) + margin_px) continue;
-    if (Luminance(transferred.at<cv::Vec3f>(y, x)) < colours.dark_sclera()) transfer_mask.data[pixel] = 0;
-  }
-  const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
-  // Rendered sclera takes the colour of the photo's sclera around it, not
-  // of its lash shade.
+  // moves must keep its iris. The clear sclera kept gives rendered sclera its
+  // colour (NearbySclera), not the lashes' shade.
   cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
   for (int pixel : target_buffers_.foreground) {
     const int x = pixel % width, y = pixel / width;
-    const bool clear = Luminance(transferred.at<cv::Vec3f>(y, x)) >= colours.dark_sclera();
-    if (transfer_mask.data[pixel] && is_sclera(x, y) && clear) clear_sclera.data[pixel] = 255;
+    if (!transfer_mask.data[pixel] || !is_sclera(x, y)) continue;
+    if (Luminance(transferred.at<cv::Vec3f>(y, x)) >= colours.dark_sclera()) {
+      clear_sclera.data[pixel] = 255;
+    } else if (target_depth.at<float>(y, x) > margin_px &&
+               target_depth.at<float>(y, x) > from_depth.at<float>(y, x) + margin_px) {
+      transfer_mask.data[pixel] = 0;
+    }
   }
+  const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =
       colours.sclera_known()
           ? NearbySclera(transferred, clear_sclera, eyeballs_area,
@@ -475,8 +473,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       const float w = transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
       const cv::Vec3f plain = rendered.at<cv::Vec3f>(y, x);
       const bool sclera = is_sclera(x, y);
-      const cv::Vec3f around = sclera && colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
-      cv::Vec3f colour = colours.Match(plain, sclera, around);
+      const cv::Vec3f nearby_sclera = sclera && colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
+      cv::Vec3f colour = colours.Match(plain, sclera, nearby_sclera);
       colour = w * transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
       if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
