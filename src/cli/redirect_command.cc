@@ -215,17 +215,38 @@ nlohmann::json InputSignature(const std::filesystem::path& input) {
 }
 
 // Tracks the whole video, writing the fits file; returns what it wrote.
+// The fits (frame, face) held as they were because a fitted iris sits off
+// the photo's by more than --max-iris-offset; the fits alone do not tell,
+// the frames do.
+using FitKey = std::pair<long, int>;
+void AddFitsWithIrisOff(const RedirectCommandOptions& options, const cv::Mat& frame, long index,
+                        const std::vector<StoredFit>& fits, const Camera& camera, Renderer& renderer,
+                        std::set<FitKey>& off) {
+  if (options.max_iris_offset <= 0) return;
+  for (const StoredFit& fit : fits) {
+    if (!fit.eyes_closed && IrisOffTooFar(WorstIrisOffset(frame, camera, fit, renderer), options)) {
+      off.insert({index, fit.face_id});
+    }
+  }
+}
+
+// Tracks the video into `fits_path`, and finds the fits with an iris off on
+// the way (`iris_off`), while each frame is at hand.
 FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const Camera& camera,
-                    const std::filesystem::path& fits_path) {
+                    const std::filesystem::path& fits_path, std::set<FitKey>& iris_off) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   VideoReader reader(options.input);
   GazeTracker tracker = setup.MakeTracker();
+  Renderer renderer(setup.model);
   TextWriter json(fits_path, inputs);
   Progress progress("track", reader.info().frame_count, "frames", options.common.quiet);
   cv::Mat frame;
   while (reader.Read(frame)) {
     ThrowIfInterrupted();
     const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    std::vector<StoredFit> stored;
+    for (const FaceFit& fit : fits) stored.push_back(StoredFit::Of(fit));
+    AddFitsWithIrisOff(options, frame, reader.frame_index(), stored, camera, renderer, iris_off);
     nlohmann::json record = FrameRecord(reader.frame_index(), reader.timestamp_s(), fits,
                                         reader.frame_index() == 0 ? &camera : nullptr);
     if (reader.frame_index() == 0) record["source"] = InputSignature(options.input);
@@ -249,10 +270,8 @@ bool CacheMatches(const std::filesystem::path& fits_path, const std::filesystem:
   }
 }
 
-// The fits (frame, face) with an iris off the photo's by more than
-// --max-iris-offset: a pass over the video's frames, which the fits alone do
-// not hold.
-using FitKey = std::pair<long, int>;
+// The fits with an iris off (AddFitsWithIrisOff) among fits made earlier: a
+// pass over the video's frames.
 std::set<FitKey> FitsWithIrisOff(const RedirectCommandOptions& options, const FitsFile& fits, const Camera& camera,
                                  std::shared_ptr<const EyeRegionModel> model) {
   std::set<FitKey> off;
@@ -265,13 +284,7 @@ std::set<FitKey> FitsWithIrisOff(const RedirectCommandOptions& options, const Fi
     ThrowIfInterrupted();
     const long index = reader.frame_index();
     const auto stored = fits.frames.find(index);
-    if (stored != fits.frames.end()) {
-      for (const StoredFit& fit : stored->second.faces) {
-        if (!fit.eyes_closed && IrisOffTooFar(WorstIrisOffset(frame, camera, fit, renderer), options)) {
-          off.insert({index, fit.face_id});
-        }
-      }
-    }
+    if (stored != fits.frames.end()) AddFitsWithIrisOff(options, frame, index, stored->second.faces, camera, renderer, off);
     progress.Update(index + 1);
   }
   progress.Finish();
@@ -325,6 +338,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
 
   // Stage 1: the fits, given, stored by an earlier run, or tracked now.
   FitsFile fits;
+  std::optional<std::set<FitKey>> iris_off;  // found while tracking, else in a pass of their own
   if (!options.fits.empty()) {
     fits = ReadFits(options.fits);
     spdlog::info("using the fits in {} ({} frames)", options.fits, fits.frames.size());
@@ -334,14 +348,14 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
       fits = ReadFits(cache);
       spdlog::info("reusing the fits stored in {} (--refit to track again)", cache.string());
     } else {
-      fits = TrackVideo(options, setup, camera, cache);
+      fits = TrackVideo(options, setup, camera, cache, iris_off.emplace());
       spdlog::info("fits stored in {}; edit them and pass --fits to re-render", cache.string());
     }
   }
   RequireFitsOfSize(fits, info.width, info.height);
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
-  const std::set<FitKey> iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
-  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, iris_off);
+  if (!iris_off) iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
+  const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, *iris_off);
 
   // Stage 2: re-render every frame.
   const int out_width = options.side_by_side ? 2 * info.width : info.width;
@@ -385,7 +399,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   writer.Finish();
   spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
                "untouched) -> {}",
-               options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off.size(),
+               options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off->size(),
                options.output);
   return 0;
 }
