@@ -201,13 +201,11 @@ cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
 }
 
 Redirector::Redirector(std::shared_ptr<const EyeRegionModel> model, RedirectOptions options)
-    : model_(model), options_(options), fitted_renderer_(model), target_renderer_(model) {
-  const std::vector<bool>& is_cornea = model_->eyeball().is_cornea();
-  for (int part : {kLeftEyeball, kRightEyeball}) {
-    cornea_flags_[part].resize(1, static_cast<Eigen::Index>(is_cornea.size()));
-    for (std::size_t v = 0; v < is_cornea.size(); ++v) cornea_flags_[part](0, static_cast<Eigen::Index>(v)) = is_cornea[v];
-  }
-}
+    : model_(model),
+      options_(options),
+      fitted_renderer_(model),
+      target_renderer_(model),
+      cornea_flags_(Renderer::CorneaAttribute(*model)) {}
 
 std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note) {
   // How much eyeball the fit (in fitted_buffers_) shows, against the same

@@ -480,4 +480,14 @@ cv::Mat Renderer::InterpolateAttribute(const RenderBuffers& buffers, const EyeRe
   return field;
 }
 
+std::array<Eigen::MatrixXf, kNumParts> Renderer::CorneaAttribute(const EyeRegionModel& model) {
+  std::array<Eigen::MatrixXf, kNumParts> flags;
+  const std::vector<bool>& is_cornea = model.eyeball().is_cornea();
+  for (int part : {kLeftEyeball, kRightEyeball}) {
+    flags[part].resize(1, static_cast<Eigen::Index>(is_cornea.size()));
+    for (std::size_t v = 0; v < is_cornea.size(); ++v) flags[part](0, static_cast<Eigen::Index>(v)) = is_cornea[v];
+  }
+  return flags;
+}
+
 }  // namespace gazedirector

@@ -71,6 +71,9 @@ class Renderer {
   // image with `channels` channels.
   static cv::Mat InterpolateAttribute(const RenderBuffers& buffers, const EyeRegionModel& model,
                                       const std::array<Eigen::MatrixXf, kNumParts>& attributes, int channels);
+  // The attribute that is 1 on the eyeballs' corneas (through which the
+  // irises show) and 0 elsewhere, for InterpolateAttribute.
+  static std::array<Eigen::MatrixXf, kNumParts> CorneaAttribute(const EyeRegionModel& model);
 
   // d(colour)/d(parameter) of every foreground pixel for the parameters that
   // colour is linear in (texture PCA, iris and sclera colours, ambient and

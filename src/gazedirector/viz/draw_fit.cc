@@ -34,6 +34,13 @@ void DrawFit(cv::Mat& image, const Camera& camera, const Parameters& phi, bool g
   contours.clear();
   cv::findContours(eyeballs, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
   cv::drawContours(patch, contours, -1, cv::Scalar(60, 230, 255), thickness, cv::LINE_AA);
+  // The fitted irises as far as they show, to hold against the photo's.
+  const EyeRegionModel& model = renderer.model();
+  const cv::Mat corneas =
+      Renderer::InterpolateAttribute(buffers, model, Renderer::CorneaAttribute(model), 1) > 0.5f;
+  contours.clear();
+  cv::findContours(corneas, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  cv::drawContours(patch, contours, -1, cv::Scalar(255, 200, 40), thickness, cv::LINE_AA);
 
   const std::array<EyeGaze, 2> gazes = EyeGazes(phi);
   const double length = 1.6 * phi.interocular();
