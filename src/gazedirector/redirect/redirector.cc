@@ -88,13 +88,20 @@ cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
 // The rendering's colours matched to the photo's eye, from samples where
 // both are known, separately for the iris (the cornea, which shows it) and
 // the sclera: medians, which the few skin pixels a slightly wide fit lets in
-// cannot tint.
+// cannot tint. The rendered iris takes the photo iris's median and spread: a
+// dark, even iris must not show the iris texture's brighter ring.
 class EyeColourMatch {
  public:
   // The photo's colour `photo` (BGR) where the rendering shows `rendered`.
   void Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
     for (int c = 0; c < 3; ++c) ratios_[3 * sclera + c].push_back(photo[c] / std::max(rendered[c], 1e-3f));
-    if (!sclera) return;
+    if (!sclera) {
+      for (int c = 0; c < 3; ++c) {
+        iris_[c].push_back(photo[c]);
+        iris_[3 + c].push_back(rendered[c]);
+      }
+      return;
+    }
     for (int c = 0; c < 3; ++c) sclera_[c].push_back(photo[c]);
     sclera_[3].push_back(Luminance(rendered));
     sclera_[4].push_back(Luminance(photo));
@@ -109,15 +116,23 @@ class EyeColourMatch {
       }
     }
     sclera_known_ = sclera_[3].size() >= kEnough;
-    if (!sclera_known_) return;
-    for (int c = 0; c < 3; ++c) sclera_colour_[c] = static_cast<float>(Median(sclera_[c]));
-    sclera_luminance_ = std::max(1e-3f, static_cast<float>(Median(sclera_[3])));
-    dark_sclera_ = 0.7f * static_cast<float>(Median(sclera_[4]));
+    float photo_sclera = -1;  // the photo sclera's luminance
+    if (sclera_known_) {
+      for (int c = 0; c < 3; ++c) sclera_colour_[c] = static_cast<float>(Median(sclera_[c]));
+      sclera_luminance_ = std::max(1e-3f, static_cast<float>(Median(sclera_[3])));
+      photo_sclera = static_cast<float>(Median(sclera_[4]));
+      dark_sclera_ = 0.7f * photo_sclera;
+    }
+    FinishIris(photo_sclera);
   }
 
   // Photo sclera darker than this is lashes, the iris's edge where the fit
   // missed it by a pixel, or shadow under a lid (-1 when unknown).
   float dark_sclera() const { return dark_sclera_; }
+  // Photo "iris" brighter than this is sclera beside an iris the fit
+  // placed off the photo's: moved with the iris, it would draw a white
+  // crescent inside the new one (-1 when unknown).
+  float bright_iris() const { return bright_iris_; }
 
   // The photo's typical sclera colour (meaningful once sclera_known()).
   bool sclera_known() const { return sclera_known_; }
@@ -135,10 +150,38 @@ class EyeColourMatch {
       // Never brighter than the photo's sclera there, which has the real light.
       return photo_sclera * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.0f);
     }
+    if (!sclera && iris_matched_) {
+      cv::Vec3f out;
+      for (int c = 0; c < 3; ++c) {
+        out[c] = std::max(0.0f, iris_photo_[c] + iris_contrast_[c] * (rendered[c] - iris_rendered_[c]));
+      }
+      return out;
+    }
     return rendered.mul(gain_[sclera]);
   }
 
  private:
+  // The bright-iris threshold (none where the sclera is unknown: -1), and
+  // the photo iris's median and spread, which the rendered iris takes.
+  void FinishIris(float photo_sclera) {
+    if (iris_[0].size() < kEnough) return;
+    std::vector<double> luminance(iris_[0].size());
+    for (std::size_t i = 0; i < luminance.size(); ++i) {
+      luminance[i] = Luminance(cv::Vec3f(iris_[0][i], iris_[1][i], iris_[2][i]));
+    }
+    const float iris = static_cast<float>(Median(std::move(luminance)));
+    if (photo_sclera > iris) bright_iris_ = iris + kBrightIris * (photo_sclera - iris);
+    iris_matched_ = true;
+    for (int c = 0; c < 3; ++c) {
+      const std::array<double, 3> photo = Quartiles(std::move(iris_[c]));
+      const std::array<double, 3> rendered = Quartiles(std::move(iris_[3 + c]));
+      iris_photo_[c] = static_cast<float>(photo[1]);
+      iris_rendered_[c] = static_cast<float>(rendered[1]);
+      iris_contrast_[c] =
+          static_cast<float>(std::clamp((photo[2] - photo[0]) / std::max(rendered[2] - rendered[0], 1e-3), 0.1, 1.5));
+    }
+  }
+
   static constexpr std::size_t kEnough = 10;  // samples
   std::array<std::vector<double>, 6> ratios_;  // photo / rendering, per group (iris, sclera) and channel
   std::array<std::vector<double>, 5> sclera_;  // the photo's sclera (B, G, R), the rendering's luminance there, the photo's
@@ -147,6 +190,11 @@ class EyeColourMatch {
   cv::Vec3f sclera_colour_;
   float sclera_luminance_ = 1;
   float dark_sclera_ = -1;
+  static constexpr float kBrightIris = 0.6f;  // of the way from the photo's iris to its sclera
+  std::array<std::vector<double>, 6> iris_;  // the photo's iris (B, G, R) and the rendering's there
+  bool iris_matched_ = false;
+  cv::Vec3f iris_photo_, iris_rendered_, iris_contrast_;  // median irises, and their spreads' ratio
+  float bright_iris_ = -1;
 };
 
 // `image` blurred by a Gaussian of `sigma`, computed only where it is needed
@@ -378,6 +426,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
   cv::Mat from_depth(region.size(), CV_32FC1, cv::Scalar(0));  // how deep in the fitted opening each transferred pixel's source was
+  cv::Mat moved_by(region.size(), CV_32FC1, cv::Scalar(0));    // how far each transferred pixel's source was, in pixels
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
   // How deep inside its eye opening each pixel is (pixels from the lids), in
@@ -425,20 +474,30 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     }
     transferred.at<cv::Vec3f>(y, x) = value;
     from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
+    moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     transfer_mask.data[pixel] = 255;
     colours.Add(value, colour, is_sclera(x, y));
   }
   colours.Finish();
-  // Dark photo sclera belongs right at the new lids; dragged deeper into the
-  // new opening it would draw streaks across the white, which the rendering
-  // fills. Dark "sclera" that stays as deep as it was is left alone: it is
+  // Bright photo "iris" moved with the iris is sclera that a fitted iris
+  // beside the photo's covered: the rendering fills it (where the eye barely
+  // moves it stays as it was). Dark photo sclera belongs right at the new
+  // lids; dragged deeper into the new opening it would draw streaks across
+  // the white, which the rendering fills. Dark "sclera" that stays as deep as it was is left alone: it is
   // where the fit's iris was smaller than the photo's, and an eye that barely
   // moves must keep its iris. The clear sclera kept gives rendered sclera its
   // colour (NearbySclera), not the lashes' shade.
   cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
   for (int pixel : target_buffers_.foreground) {
     const int x = pixel % width, y = pixel / width;
-    if (!transfer_mask.data[pixel] || !is_sclera(x, y)) continue;
+    if (!transfer_mask.data[pixel]) continue;
+    if (!is_sclera(x, y)) {
+      if (colours.bright_iris() > 0 && moved_by.at<float>(y, x) > margin_px &&
+          Luminance(transferred.at<cv::Vec3f>(y, x)) > colours.bright_iris()) {
+        transfer_mask.data[pixel] = 0;
+      }
+      continue;
+    }
     if (Luminance(transferred.at<cv::Vec3f>(y, x)) >= colours.dark_sclera()) {
       clear_sclera.data[pixel] = 255;
     } else if (target_depth.at<float>(y, x) > margin_px &&

@@ -1,10 +1,14 @@
 #include "gazedirector/redirect/redirector.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/redirect/gaze_target.h"
+#include "gazedirector/util/statistics.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
@@ -195,6 +199,51 @@ TEST(RedirectorTest, RenderedScleraContinuesThePhotosSclera) {
     mean_step += step / 3;
   }
   EXPECT_LT(mean_step, 9.0);
+}
+
+// Grey level of `image` (8-bit BGR) at the pixels of `mask`, as a list.
+std::vector<double> GreyLevels(const cv::Mat& image, const cv::Mat& mask) {
+  cv::Mat grey;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  std::vector<double> levels;
+  for (int i = 0; i < grey.rows * grey.cols; ++i) {
+    if (mask.data[i]) levels.push_back(grey.data[i]);
+  }
+  return levels;
+}
+
+// A fitted iris that sits beside the photo's covers some of its sclera; moved
+// with the iris, that sclera used to draw a white crescent inside the new one
+// (d14.mp4's far glances, d3.mp4 frame 330). Here d30's fit is turned 6
+// degrees off the photo's irises and then redirected 20 degrees back past them.
+TEST(RedirectorTest, AnIrisFittedBesideThePhotosCarriesNoScleraIntoTheNewOne) {
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
+  // How bright the photo's iris and sclera are where the fit shows them.
+  RedirectLayers fitted;
+  cv::Mat unchanged = p.image.clone();
+  const RedirectReport as_fitted = redirector.Redirect(unchanged, p.camera, p.fit.phi, p.fit.phi, &fitted);
+  cv::Mat fitted_iris = fitted.eyeball_mask & ~fitted.sclera_mask;
+  const double iris_level = Median(GreyLevels(p.image(as_fitted.region), fitted_iris));
+  const double sclera_level = Median(GreyLevels(p.image(as_fitted.region), fitted.sclera_mask));
+  ASSERT_GT(sclera_level, iris_level + 40);
+
+  Parameters beside = p.fit.phi;
+  beside.gaze_yaw() += 6;
+  RedirectLayers layers;
+  cv::Mat result = p.image.clone();
+  const RedirectReport report =
+      redirector.Redirect(result, p.camera, beside, Retarget(beside, GazeTarget::Offset(0, -20)), &layers);
+  ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
+  cv::Mat new_iris = layers.eyeball_mask & ~layers.sclera_mask;
+  cv::erode(new_iris, new_iris, cv::Mat());  // the limbus itself blends into the sclera
+  const std::vector<double> levels = GreyLevels(result(report.region), new_iris);
+  ASSERT_GT(levels.size(), 50u);
+  const double halfway = 0.5 * (iris_level + sclera_level);
+  const double bright = std::count_if(levels.begin(), levels.end(), [&](double v) { return v > halfway; });
+  std::printf("iris %.0f, sclera %.0f: %.1f%% of the new irises' pixels brighter than halfway\n", iris_level,
+              sclera_level, 100 * bright / levels.size());
+  EXPECT_LT(bright / levels.size(), 0.04);
 }
 
 TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {

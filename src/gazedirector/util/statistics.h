@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <vector>
 
 namespace gazedirector {
@@ -9,5 +10,7 @@ double Mean(const std::vector<double>& values);
 double Median(std::vector<double> values);
 // The q-quantile (0..1) with linear interpolation.
 double Quantile(std::vector<double> values, double q);
+// The 0.25, 0.5 and 0.75 quantiles, as Quantile gives them, from one sort.
+std::array<double, 3> Quartiles(std::vector<double> values);
 
 }  // namespace gazedirector

@@ -15,6 +15,11 @@ TEST(StatisticsTest, MedianQuantileAndMeanOfSmallSamples) {
   EXPECT_EQ(Quantile(values, 1.0), 30);
   EXPECT_DOUBLE_EQ(Quantile(values, 0.5), Median(values));
   EXPECT_DOUBLE_EQ(Quantile(values, 0.25), 7.5);  // linear between 0 and 10
+  const std::array<double, 3> quartiles = Quartiles(values);
+  EXPECT_DOUBLE_EQ(quartiles[0], 7.5);
+  EXPECT_DOUBLE_EQ(quartiles[1], 15);
+  EXPECT_DOUBLE_EQ(quartiles[2], Quantile(values, 0.75));
+  EXPECT_EQ(Quartiles({})[1], 0);
 }
 
 }  // namespace
