@@ -94,7 +94,6 @@ class EyeColourMatch {
  public:
   // The photo's colour `photo` (BGR) where the rendering shows `rendered`.
   void Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
-    for (int c = 0; c < 3; ++c) ratios_[3 * sclera + c].push_back(photo[c] / std::max(rendered[c], 1e-3f));
     if (!sclera) {
       for (int c = 0; c < 3; ++c) {
         iris_[c].push_back(photo[c]);
@@ -109,12 +108,6 @@ class EyeColourMatch {
 
   // After the last Add.
   void Finish() {
-    for (int group = 0; group < 2; ++group) {
-      for (int c = 0; c < 3; ++c) {
-        const std::vector<double>& ratios = ratios_[3 * group + c];
-        if (ratios.size() >= kEnough) gain_[group][c] = static_cast<float>(std::clamp(Median(ratios), 0.3, 3.0));
-      }
-    }
     sclera_known_ = sclera_[3].size() >= kEnough;
     float photo_sclera = -1;  // the photo sclera's luminance
     if (sclera_known_) {
@@ -157,7 +150,7 @@ class EyeColourMatch {
       }
       return out;
     }
-    return rendered.mul(gain_[sclera]);
+    return rendered;  // too few samples to match
   }
 
  private:
@@ -183,9 +176,7 @@ class EyeColourMatch {
   }
 
   static constexpr std::size_t kEnough = 10;  // samples
-  std::array<std::vector<double>, 6> ratios_;  // photo / rendering, per group (iris, sclera) and channel
   std::array<std::vector<double>, 5> sclera_;  // the photo's sclera (B, G, R), the rendering's luminance there, the photo's
-  std::array<cv::Vec3f, 2> gain_ = {cv::Vec3f(1, 1, 1), cv::Vec3f(1, 1, 1)};
   bool sclera_known_ = false;
   cv::Vec3f sclera_colour_;
   float sclera_luminance_ = 1;
@@ -483,9 +474,9 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // beside the photo's covered: the rendering fills it (where the eye barely
   // moves it stays as it was). Dark photo sclera belongs right at the new
   // lids; dragged deeper into the new opening it would draw streaks across
-  // the white, which the rendering fills. Dark "sclera" that stays as deep as it was is left alone: it is
-  // where the fit's iris was smaller than the photo's, and an eye that barely
-  // moves must keep its iris. The clear sclera kept gives rendered sclera its
+  // the white, which the rendering fills. Dark "sclera" that stays as deep
+  // as it was is left alone: it is where the fit's iris was smaller than the
+  // photo's, and an eye that barely moves must keep its iris. The clear sclera kept gives rendered sclera its
   // colour (NearbySclera), not the lashes' shade.
   cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
   for (int pixel : target_buffers_.foreground) {
