@@ -214,7 +214,6 @@ nlohmann::json InputSignature(const std::filesystem::path& input) {
           {"input_mtime", std::filesystem::last_write_time(input).time_since_epoch().count()}};
 }
 
-// Tracks the whole video, writing the fits file; returns what it wrote.
 // The fits (frame, face) held as they were because a fitted iris sits off
 // the photo's by more than --max-iris-offset; the fits alone do not tell,
 // the frames do.
@@ -230,8 +229,8 @@ void AddFitsWithIrisOff(const RedirectCommandOptions& options, const cv::Mat& fr
   }
 }
 
-// Tracks the video into `fits_path`, and finds the fits with an iris off on
-// the way (`iris_off`), while each frame is at hand.
+// Tracks the video into `fits_path` and returns what it wrote; finds the
+// fits with an iris off on the way (`iris_off`), while each frame is at hand.
 FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const Camera& camera,
                     const std::filesystem::path& fits_path, std::set<FitKey>& iris_off) {
   const std::vector<std::filesystem::path> inputs = {options.input};

@@ -416,8 +416,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // there is the photo's, which the rendering lacks.
   cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
-  cv::Mat from_depth(region.size(), CV_32FC1, cv::Scalar(0));  // how deep in the fitted opening each transferred pixel's source was
-  cv::Mat moved_by(region.size(), CV_32FC1, cv::Scalar(0));    // how far each transferred pixel's source was, in pixels
+  cv::Mat from_depth(region.size(), CV_32FC1, cv::Scalar(0));  // sclera: how deep in the fitted opening its source was
+  cv::Mat moved_by(region.size(), CV_32FC1, cv::Scalar(0));    // iris: how far its source was, in pixels
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
   // How deep inside its eye opening each pixel is (pixels from the lids), in
@@ -440,7 +440,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (!options_.transfer_eyeballs) continue;
     // The photo where this surface point was, else where its mirror images were.
     // (The iris is dark itself: there the lashes' shade does no harm.)
-    const float depth_needed = is_sclera(x, y) ? std::min(target_depth.at<float>(y, x), margin_px) - 0.5f : -1.0f;
+    const bool sclera = is_sclera(x, y);
+    const float depth_needed = sclera ? std::min(target_depth.at<float>(y, x), margin_px) - 0.5f : -1.0f;
     auto usable = [&](const cv::Vec2f& s) {
       const cv::Point at = NearestPixel(s);
       if (!cv::Rect(0, 0, region.width, region.height).contains(at)) return false;
@@ -464,10 +465,13 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
     }
     transferred.at<cv::Vec3f>(y, x) = value;
-    from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
-    moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
+    if (sclera) {
+      from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
+    } else {
+      moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
+    }
     transfer_mask.data[pixel] = 255;
-    colours.Add(value, colour, is_sclera(x, y));
+    colours.Add(value, colour, sclera);
   }
   colours.Finish();
   // Bright photo "iris" moved with the iris is sclera that a fitted iris
@@ -476,8 +480,9 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // lids; dragged deeper into the new opening it would draw streaks across
   // the white, which the rendering fills. Dark "sclera" that stays as deep
   // as it was is left alone: it is where the fit's iris was smaller than the
-  // photo's, and an eye that barely moves must keep its iris. The clear sclera kept gives rendered sclera its
-  // colour (NearbySclera), not the lashes' shade.
+  // photo's, and an eye that barely moves must keep its iris. The clear
+  // sclera kept gives rendered sclera its colour (NearbySclera), not the
+  // lashes' shade.
   cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
   for (int pixel : target_buffers_.foreground) {
     const int x = pixel % width, y = pixel / width;
