@@ -368,6 +368,43 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 
+// An output that cannot be written fails at once, before any fitting, and
+// leaves the other outputs unwritten: nothing is half done.
+TEST(CliGazeTest, AnUnwritableOutputFailsBeforeAnyWork) {
+  const fs::path dir = ScratchDir("cli_unwritable");
+  const std::string nowhere = "/proc/gazedirector_cli_test";  // /proc takes no new files, even as root
+  std::string output;
+  EXPECT_EQ(RunCli("track " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "fits.jsonl") + " --csv " +
+                       nowhere + ".csv",
+                   &output),
+            6)
+      << output;
+  EXPECT_NE(output.find("cannot write " + nowhere + ".csv"), std::string::npos) << output;
+  EXPECT_EQ(output.find("gaze pitch"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir / "fits.jsonl"));
+  // The evaluation would fit for minutes before writing its figure.
+  EXPECT_EQ(RunCli("eval columbia --subjects 0013 --poses 0 --every 10 --plot " + nowhere + ".png --csv " +
+                       Quote(dir / "crops.csv"),
+                   &output),
+            6)
+      << output;
+  EXPECT_EQ(output.find("appearance gaze"), std::string::npos) << output;
+  std::ofstream(dir / "notes.txt") << "a file, not a folder";
+  EXPECT_EQ(RunCli("eval redirect-columbia --subjects 0007 --plot " + Quote(dir / "curves.png") + " --out-dir " +
+                       Quote(dir / "notes.txt" / "crops"),
+                   &output),
+            6)
+      << output;
+  EXPECT_EQ(output.find("registered"), std::string::npos) << output;
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "out.jpg") +
+                       " --debug-dir " + nowhere,
+                   &output),
+            6)
+      << output;
+  EXPECT_FALSE(fs::exists(dir / "out.jpg") || fs::exists(dir / "crops.csv") || fs::exists(dir / "curves.png"));
+  EXPECT_TRUE(NoPartialFiles(dir));
+}
+
 TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   const fs::path dir = ScratchDir("cli_redirect_video");
   const fs::path input = DataPath("video/d19.mp4");

@@ -69,6 +69,7 @@ void RequireOutputKind(const std::string& path, const std::string& option, Media
   if (kind == MediaKind::kVideo && !HasVideoExtension(path)) {
     Fail(ExitCode::kUsage, "{} {}: a video's output is a video (.mp4, .mkv, .gif)", option, path);
   }
+  RequireWritable(path, {input});
 }
 
 void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
@@ -76,6 +77,23 @@ void RequireAnalysisOutputs(const std::string& output, const std::string& csv, c
   RequireExtension(output, "-o", {".json", ".jsonl"});
   if (!csv.empty()) RequireExtension(csv, "--csv", {".csv"});
   RequireOutputKind(overlay, "--overlay", kind, input);
+  RequireWritable(output, {input});
+  if (!csv.empty()) RequireWritable(csv, {input});
+}
+
+void RequireImageOutput(const std::string& path, const std::string& option) {
+  if (path.empty()) return;
+  if (!IsImagePath(path)) Fail(ExitCode::kUsage, "{} {}: expected an image file (.png, .jpg)", option, path);
+  RequireWritable(path);
+}
+
+void RequireWritableFolder(const std::string& dir, const std::string& option) {
+  if (dir.empty()) return;
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+    Fail(ExitCode::kOutput, "{} {}: not a folder", option, dir);
+  }
+  RequireWritable(std::filesystem::path(dir) / "probe");
 }
 
 void WarnIfTruncated(const VideoReader& reader, const std::string& input) {

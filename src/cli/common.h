@@ -51,13 +51,19 @@ void RequireExtension(const std::filesystem::path& path, const std::string& opti
 bool IsImagePath(const std::filesystem::path& path);
 // Fails with a usage error unless `path` (given as `option`) suits the input's
 // kind: an image for an image, a video for a video, and with an output error
-// when it is the input itself. Empty paths pass.
+// when it is the input itself or cannot be written. Empty paths pass.
 void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind, const std::string& input);
 // The outputs of the analysis commands (landmarks, track): -o JSON or JSON
 // lines, --csv a CSV, --overlay of the input's kind (optional ones may be
-// empty), none of them the input.
+// empty), none of them the input, each writable.
 void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
                             MediaKind kind, const std::string& input);
+// Fails unless `path` (given as `option`) names an image file (.png, .jpg, ...)
+// that can be written. An empty path passes.
+void RequireImageOutput(const std::string& path, const std::string& option);
+// Fails unless new files can be written in the folder `dir` (created when
+// missing). An empty path passes.
+void RequireWritableFolder(const std::string& dir, const std::string& option);
 // Warns when a video stopped before the frame count its container announced.
 void WarnIfTruncated(const VideoReader& reader, const std::string& input);
 

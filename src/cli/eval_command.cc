@@ -12,23 +12,24 @@
 
 #include "cli/common.h"
 #include "cli/fitting.h"
-#include "gazedirector/eval/iris_alignment.h"
 #include "gazedirector/eval/columbia.h"
-#include "gazedirector/eval/redirect_columbia.h"
-#include "gazedirector/redirect/gaze_target.h"
-#include "gazedirector/fit/fit_options.h"
+#include "gazedirector/eval/iris_alignment.h"
 #include "gazedirector/eval/landmark_accuracy.h"
+#include "gazedirector/eval/redirect_columbia.h"
+#include "gazedirector/fit/fit_options.h"
+#include "gazedirector/io/assets.h"
+#include "gazedirector/io/atomic_output.h"
 #include "gazedirector/io/image_io.h"
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/io/text_writer.h"
 #include "gazedirector/io/video_reader.h"
+#include "gazedirector/redirect/gaze_target.h"
+#include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
 #include "gazedirector/util/progress.h"
 #include "gazedirector/util/statistics.h"
 #include "gazedirector/util/timer.h"
 #include "gazedirector/viz/plot.h"
-#include "gazedirector/io/assets.h"
-#include "gazedirector/io/json_format.h"
-#include "gazedirector/util/error.h"
 
 namespace gazedirector::cli {
 namespace {
@@ -138,6 +139,13 @@ cv::Mat ConvergencePlot(const std::vector<ColumbiaFit>& fits) {
   LinePlot error_plot("Gaze error", "Gauss-Newton iteration", "angle to the label (degrees)");
   error_plot.AddSeries("median, IQR", x, error.median, cv::Scalar(40, 40, 200), error.q25, error.q75);
   return SideBySide({energy_plot.Draw(), error_plot.Draw()});
+}
+
+// Fails unless --csv, when given, is a .csv file that can be written (and not `input`).
+void RequireCsvOutput(const std::string& csv, const std::string& input = "") {
+  if (csv.empty()) return;
+  RequireExtension(csv, "--csv", {".csv"});
+  RequireWritable(csv, input.empty() ? std::vector<std::filesystem::path>{} : std::vector<std::filesystem::path>{input});
 }
 
 std::filesystem::path ColumbiaDir(const EvalOptions& options) {
@@ -252,6 +260,8 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
 }
 
 int RunColumbiaEval(const EvalOptions& options) {
+  RequireImageOutput(options.plot, "--plot");
+  RequireCsvOutput(options.csv);
   const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
   const bool use_appearance = fit_options.weights.UsesAppearance();
   const AppearanceModels appearance = use_appearance ? AppearanceModelsFor(options, crops) : AppearanceModels{};
@@ -443,6 +453,9 @@ void WriteRedirectCases(const std::string& path, const std::vector<RedirectColum
 }
 
 int RunRedirectColumbiaEval(const EvalOptions& options) {
+  RequireImageOutput(options.cdf_plot, "--plot");
+  RequireCsvOutput(options.csv);
+  RequireWritableFolder(options.out_dir, "--out-dir");
   const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
   std::unique_ptr<Progress> progress;
   const std::filesystem::path out_dir(options.out_dir);
@@ -573,7 +586,7 @@ std::vector<StoredFit> FitsOfFrame(const std::optional<FitsFile>& stored, long i
 int RunIrisEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.iris_input);
-  if (!options.csv.empty()) RequireExtension(options.csv, "--csv", {".csv"});
+  RequireCsvOutput(options.csv, options.iris_input);
   std::optional<FitsFile> stored;
   if (!options.iris_fits.empty()) stored = ReadFits(options.iris_fits);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);

@@ -407,6 +407,7 @@ int RunRedirect(const RedirectCommandOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
   RequireOutputKind(options.output, "-o", kind, options.input);
+  RequireWritableFolder(options.debug_dir, "--debug-dir");
   if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
     Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
   }

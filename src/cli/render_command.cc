@@ -57,7 +57,7 @@ cv::Size ParseSize(const std::string& text) {
 
 int RunRender(const RenderOptions& options) {
   ApplyLogLevel(options.common);
-  if (!IsImagePath(options.output)) Fail(ExitCode::kUsage, "-o {}: expected an image file (.png, .jpg)", options.output);
+  RequireImageOutput(options.output, "-o");
   if (!std::all_of(options.gaze.begin(), options.gaze.end(), WithinQuarterTurn)) {
     Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
   }

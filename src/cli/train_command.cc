@@ -7,6 +7,7 @@
 #include "cli/common.h"
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/fit/appearance_gaze.h"
+#include "gazedirector/io/atomic_output.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/timer.h"
 
@@ -25,6 +26,7 @@ int RunTrainAppearance(const TrainOptions& options) {
   if (!(options.ridge > 0 && options.ridge < 1e9)) {
     Fail(ExitCode::kUsage, "--ridge {}: expected a number above 0 and below 1e9", options.ridge);
   }
+  RequireWritable(options.output);
   // Fails unless it is a folder with crops in it.
   const std::vector<ColumbiaCrop> crops = ListColumbia(ColumbiaDirOrDefault(options.dir));
   Timer timer;

@@ -46,6 +46,15 @@ void AtomicOutput::Commit() {
   committed_ = true;
 }
 
+void RequireWritable(const fs::path& path, const std::vector<fs::path>& inputs) {
+  const AtomicOutput probe(path, inputs);  // its destructor removes the probe file
+  std::ofstream stream(probe.temp_path(), std::ios::binary);
+  if (!stream) {
+    Fail(ExitCode::kOutput, "cannot write {}: no new file can be made in {}", path.string(),
+         probe.temp_path().parent_path().string());
+  }
+}
+
 void WriteTextFile(const fs::path& path, const std::string& text, const std::vector<fs::path>& inputs) {
   AtomicOutput output(path, inputs);
   {

@@ -35,6 +35,12 @@ class AtomicOutput {
 // but commands check their outputs before the work, not after it.
 void RequireNotAnInput(const std::filesystem::path& path, const std::vector<std::filesystem::path>& inputs);
 
+// Fails (ExitCode::kOutput) unless a file can be written at `path`: not a
+// folder, not one of `inputs`, and its folder (created when missing) takes new
+// files. Commands check each output with this before their work, so that a bad
+// path fails at once instead of after minutes of fitting.
+void RequireWritable(const std::filesystem::path& path, const std::vector<std::filesystem::path>& inputs = {});
+
 // Writes `text` to `path` atomically.
 void WriteTextFile(const std::filesystem::path& path, const std::string& text,
                    const std::vector<std::filesystem::path>& inputs = {});

@@ -72,5 +72,22 @@ TEST(AtomicOutputTest, InputsAndFoldersAreNeverOverwritten) {
   EXPECT_TRUE(testing::NoPartialFiles(dir));
 }
 
+// Commands check their outputs before their work: a path that can take a file
+// passes and is left as it was (no probe file, an older file untouched), one
+// whose folder cannot be made or takes no new files fails as an output error.
+TEST(AtomicOutputTest, AnOutputIsCheckedWritableWithoutLeavingATrace) {
+  const fs::path dir = testing::ScratchDir("atomic_output_writable");
+  RequireWritable(dir / "new" / "gaze.csv");
+  EXPECT_TRUE(fs::is_directory(dir / "new"));
+  EXPECT_TRUE(fs::is_empty(dir / "new"));
+  Write(dir / "old.csv", "older results");
+  RequireWritable(dir / "old.csv");
+  EXPECT_EQ(Read(dir / "old.csv"), "older results");
+  EXPECT_EQ(FailureOf([&] { RequireWritable(dir / "old.csv" / "gaze.csv"); }), ExitCode::kOutput);
+  EXPECT_EQ(FailureOf([&] { RequireWritable("/proc/gazedirector_gaze.csv"); }), ExitCode::kOutput);
+  EXPECT_EQ(FailureOf([&] { RequireWritable(dir); }), ExitCode::kOutput);
+  EXPECT_TRUE(testing::NoPartialFiles(dir));
+}
+
 }  // namespace
 }  // namespace gazedirector
