@@ -259,6 +259,154 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
   return models;
 }
 
+// What `eval columbia` reports: the fits and their summaries.
+struct ColumbiaReport {
+  std::vector<ColumbiaFit> fits;
+  std::vector<ColumbiaPhoto> photos;
+  PoseSummaries by_photo, by_crop, by_photo_camera;
+  std::map<std::string, ErrorSummary> by_subject;
+  SubjectResampling spread;
+  std::vector<HeadYawReadings> head_readings;  // empty where the head's yaw was given
+  double fits_per_s = 0;
+  std::string appearance_source;  // "off" without the prior
+};
+
+ColumbiaReport SummariseColumbia(std::vector<ColumbiaFit> fits, double seconds, bool known_head_pose) {
+  ColumbiaReport report;
+  report.fits = std::move(fits);
+  report.photos = CombineEyes(report.fits);
+  report.by_photo = SummariseByPose(report.photos, GazeFrame::kHead);
+  report.by_crop = SummariseByPose(report.fits, GazeFrame::kHead);
+  report.by_photo_camera = SummariseByPose(report.photos, GazeFrame::kCamera);
+  report.by_subject = SummariseBy(report.photos, GazeFrame::kHead, [](const ColumbiaCrop& crop) { return crop.subject; });
+  report.spread = ResampleSubjects(report.photos, GazeFrame::kHead);
+  // Given the head's yaw, the fits' readings carry that yaw, not a reading.
+  if (!known_head_pose) report.head_readings = SummariseHeadYawReadings(report.fits);
+  report.fits_per_s = report.fits.size() / seconds;
+  return report;
+}
+
+void WriteColumbiaCsv(const std::string& path, const ColumbiaReport& report) {
+  CsvWriter csv(path, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "head_label_pitch",
+                       "head_label_yaw", "pitch", "yaw", "pitch_error", "yaw_error", "head_pitch", "head_yaw",
+                       "camera_pitch", "camera_yaw", "camera_pitch_error", "camera_yaw_error", "seconds", "face_pitch",
+                       "face_yaw", "face_camera_pitch", "face_camera_yaw", "energy", "appearance_pitch",
+                       "appearance_yaw", "appearance_head_yaw"});
+  std::map<std::string, const ColumbiaPhoto*> photo_of;
+  for (const ColumbiaPhoto& photo : report.photos) photo_of[photo.crop.Photo()] = &photo;
+  auto number = [](double value) { return std::isnan(value) ? std::string() : fmt::format("{:.3f}", value); };
+  for (const ColumbiaFit& fit : report.fits) {
+    const ColumbiaPhoto& photo = *photo_of.at(fit.crop.Photo());
+    const Eigen::Vector2d head_label = fit.crop.Label(GazeFrame::kHead);
+    csv.AddRow({fit.crop.path.filename().string(), fit.crop.subject, std::to_string(fit.crop.head_pose),
+                std::to_string(fit.crop.vertical), std::to_string(fit.crop.horizontal), std::string(1, fit.crop.eye),
+                number(head_label.x()), number(head_label.y()), number(fit.in_head.pitch), number(fit.in_head.yaw),
+                number(fit.in_head.pitch_error), number(fit.in_head.yaw_error), number(fit.head_pitch),
+                number(fit.head_yaw), number(fit.in_camera.pitch), number(fit.in_camera.yaw),
+                number(fit.in_camera.pitch_error), number(fit.in_camera.yaw_error), number(fit.seconds),
+                number(photo.in_head.pitch), number(photo.in_head.yaw), number(photo.in_camera.pitch),
+                number(photo.in_camera.yaw), fmt::format("{:.6f}", fit.energy), number(fit.appearance.pitch),
+                number(fit.appearance.yaw), number(fit.appearance.head_yaw)});
+  }
+  csv.Finish();
+}
+
+// One JSON object; its headline figures are the faces' gazes (both eyes) relative to the head, as the paper's.
+void PrintColumbiaJson(const ColumbiaReport& report, const EvalOptions& options, const FitOptions& fit_options) {
+  nlohmann::json result = ToJson(report.by_photo.all, "photos");
+  result["crops"] = report.fits.size();
+  result["one_eye"] = ToJson(report.by_crop.all, "crops");
+  result["camera_frame"] = ToJson(report.by_photo_camera.all, "photos");
+  result["fits_per_s"] = RoundTo(report.fits_per_s, 2);
+  result["threads"] = options.threads;
+  result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
+  result["fit_options"] = FitOptionsToJson(fit_options);
+  result["appearance_prior"] = report.appearance_source;
+  for (const auto& [subject, summary] : report.by_subject) result["by_subject"][subject] = ToJson(summary, "photos");
+  const SubjectResampling& spread = report.spread;
+  result["subject_resampling"] = {{"subjects", spread.subjects},
+                                  {"yaw_mean_p5_deg", RoundTo(spread.yaw_low, 3)},
+                                  {"yaw_mean_p95_deg", RoundTo(spread.yaw_high, 3)},
+                                  {"pitch_mean_p5_deg", RoundTo(spread.pitch_low, 3)},
+                                  {"pitch_mean_p95_deg", RoundTo(spread.pitch_high, 3)}};
+  for (const auto& [pose, summary] : report.by_photo.by_pose) {
+    nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
+    entry = ToJson(summary, "photos");
+    entry["one_eye"] = ToJson(report.by_crop.by_pose.at(pose), "crops");
+    entry["camera_frame"] = ToJson(report.by_photo_camera.by_pose.at(pose), "photos");
+  }
+  for (const HeadYawReadings& h : report.head_readings) {
+    result["head_yaw_reading"][std::to_string(h.head_pose)] = {
+        {"photos", h.photos},
+        {"subjects", h.subjects},
+        {"mean_deg", RoundTo(h.mean_reading, 3)},
+        {"error_mean_deg", RoundTo(h.mean_error, 3)},
+        {"abs_error_mean_deg", RoundTo(h.mean_abs_error, 3)},
+        {"subject_spread_deg", RoundTo(h.subject_spread, 3)},
+        {"within_subject_deg", RoundTo(h.within_subject, 3)}};
+  }
+  fmt::print("{}\n", result.dump());
+}
+
+using ErrorRows = std::vector<std::pair<std::string, ErrorSummary>>;
+
+void PrintErrorTable(const ErrorRows& rows, const std::string& key, const std::string& unit) {
+  fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>15} {:>9}   {:>15} {:>9}\n", key, unit, "yaw mean", "median",
+             "pitch mean", "median", "zero yaw mean", "median", "zero pitch mean", "median");
+  for (const auto& [name, s] : rows) {
+    fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>15.2f} {:>9.2f}   {:>15.2f} {:>9.2f}\n", name,
+               s.count, s.yaw_mean, s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_yaw_median,
+               s.zero_pitch_mean, s.zero_pitch_median);
+  }
+}
+
+void PrintByPoseTable(const PoseSummaries& summaries, const std::string& unit) {
+  ErrorRows rows;
+  for (const auto& [pose, summary] : summaries.by_pose) rows.emplace_back(std::to_string(pose), summary);
+  rows.emplace_back("all", summaries.all);
+  PrintErrorTable(rows, "head pose", unit);
+}
+
+void PrintHeadYawReadings(const std::vector<HeadYawReadings>& readings) {
+  if (readings.empty()) return;
+  fmt::print("the head's yaw read from a photo's crops (the reading its fits were given), by head pose; error: the\n"
+             "reading less -P; subjects' spread: the s.d. of the subjects' mean readings; within a subject: a photo's\n"
+             "mean distance from its subject's mean\n");
+  fmt::print("{:>10} {:>6} {:>8}   {:>9} {:>10} {:>12}   {:>16} {:>16}\n", "head pose", "photos", "subjects", "reading",
+             "mean error", "mean |error|", "subjects' spread", "within a subject");
+  for (const HeadYawReadings& h : readings) {
+    fmt::print("{:>10} {:>6} {:>8}   {:>9.2f} {:>10.2f} {:>12.2f}   {:>16.2f} {:>16.2f}\n", h.head_pose, h.photos,
+               h.subjects, h.mean_reading, h.mean_error, h.mean_abs_error, h.subject_spread, h.within_subject);
+  }
+}
+
+void PrintColumbiaTables(const ColumbiaReport& report, const EvalOptions& options, const std::filesystem::path& dir) {
+  fmt::print("gaze error on {} photos ({} crops) in {} (degrees)\n", report.photos.size(), report.fits.size(),
+             dir.string());
+  fmt::print("labels: relative to the camera (0V 0H looks into the lens at every head pose); in the head's frame\n"
+             "they are turned by the head's yaw, -P\n");
+  fmt::print("relative to the head, the face's gaze: the mean of both eyes' fits where both crops are there\n");
+  PrintByPoseTable(report.by_photo, "photos");
+  fmt::print("relative to the head, one eye: each crop on its own\n");
+  PrintByPoseTable(report.by_crop, "crops");
+  fmt::print("relative to the camera, the face's gaze (zero: looking into the lens)\n");
+  PrintByPoseTable(report.by_photo_camera, "photos");
+  fmt::print("relative to the head, the face's gaze, by subject\n");
+  PrintErrorTable(ErrorRows(report.by_subject.begin(), report.by_subject.end()), "subject", "photos");
+  const SubjectResampling& spread = report.spread;
+  if (spread.subjects > 1) {
+    fmt::print("resampling the {} subjects ({} draws with replacement), 5th-95th percentile of the mean: yaw "
+               "{:.2f}-{:.2f}, pitch {:.2f}-{:.2f}\n",
+               spread.subjects, spread.draws, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
+  }
+  PrintHeadYawReadings(report.head_readings);
+  fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)"
+                                                         : "estimated from the crops (the mean of a photo's two readings)");
+  fmt::print("appearance gaze prior: {}\n", report.appearance_source);
+  fmt::print("fits per second: {:.2f} ({} threads)\n", report.fits_per_s, options.threads);
+  if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
+}
+
 int RunColumbiaEval(const EvalOptions& options) {
   RequireImageOutput(options.plot, "--plot");
   RequireCsvOutput(options.csv);
@@ -267,133 +415,21 @@ int RunColumbiaEval(const EvalOptions& options) {
   const AppearanceModels appearance = use_appearance ? AppearanceModelsFor(options, crops) : AppearanceModels{};
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;
-  const std::vector<ColumbiaFit> fits =
+  std::vector<ColumbiaFit> fits =
       FitColumbia(crops, model, fit_options, options.threads, options.known_head_pose,
                   [&](int done) { progress.Update(done); }, use_appearance ? &appearance.by_subject : nullptr);
   const double seconds = timer.Seconds();
   progress.Finish();
 
-  const std::vector<ColumbiaPhoto> photos = CombineEyes(fits);
-  const PoseSummaries by_photo = SummariseByPose(photos, GazeFrame::kHead);
-  const PoseSummaries by_crop = SummariseByPose(fits, GazeFrame::kHead);
-  const PoseSummaries by_photo_camera = SummariseByPose(photos, GazeFrame::kCamera);
-  const auto by_subject = SummariseBy(photos, GazeFrame::kHead, [](const ColumbiaCrop& crop) { return crop.subject; });
-  const SubjectResampling spread = ResampleSubjects(photos, GazeFrame::kHead);
-  // Given the head's yaw, the fits' readings carry that yaw, not a reading.
-  const std::vector<HeadYawReadings> head_readings =
-      options.known_head_pose ? std::vector<HeadYawReadings>{} : SummariseHeadYawReadings(fits);
-  const double fits_per_s = fits.size() / seconds;
-
-  if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(fits));
-  if (!options.csv.empty()) {
-    CsvWriter csv(options.csv, {"file", "subject", "head_pose", "label_pitch", "label_yaw", "eye", "head_label_pitch",
-                                "head_label_yaw", "pitch", "yaw", "pitch_error", "yaw_error", "head_pitch", "head_yaw",
-                                "camera_pitch", "camera_yaw", "camera_pitch_error", "camera_yaw_error", "seconds",
-                                "face_pitch", "face_yaw", "face_camera_pitch", "face_camera_yaw", "energy",
-                                "appearance_pitch", "appearance_yaw", "appearance_head_yaw"});
-    std::map<std::string, const ColumbiaPhoto*> photo_of;
-    for (const ColumbiaPhoto& photo : photos) photo_of[photo.crop.Photo()] = &photo;
-    auto number = [](double value) { return std::isnan(value) ? std::string() : fmt::format("{:.3f}", value); };
-    for (const ColumbiaFit& fit : fits) {
-      const ColumbiaPhoto& photo = *photo_of.at(fit.crop.Photo());
-      const Eigen::Vector2d head_label = fit.crop.Label(GazeFrame::kHead);
-      csv.AddRow({fit.crop.path.filename().string(), fit.crop.subject, std::to_string(fit.crop.head_pose),
-                  std::to_string(fit.crop.vertical), std::to_string(fit.crop.horizontal), std::string(1, fit.crop.eye),
-                  number(head_label.x()), number(head_label.y()), number(fit.in_head.pitch), number(fit.in_head.yaw),
-                  number(fit.in_head.pitch_error), number(fit.in_head.yaw_error), number(fit.head_pitch),
-                  number(fit.head_yaw), number(fit.in_camera.pitch), number(fit.in_camera.yaw),
-                  number(fit.in_camera.pitch_error), number(fit.in_camera.yaw_error), number(fit.seconds),
-                  number(photo.in_head.pitch), number(photo.in_head.yaw), number(photo.in_camera.pitch),
-                  number(photo.in_camera.yaw), fmt::format("{:.6f}", fit.energy),
-                  number(fit.appearance.pitch), number(fit.appearance.yaw), number(fit.appearance.head_yaw)});
-    }
-    csv.Finish();
-  }
+  ColumbiaReport report = SummariseColumbia(std::move(fits), seconds, options.known_head_pose);
+  report.appearance_source = use_appearance ? appearance.source : "off";
+  if (!options.plot.empty()) WriteImage(options.plot, ConvergencePlot(report.fits));
+  if (!options.csv.empty()) WriteColumbiaCsv(options.csv, report);
   if (options.json) {
-    // The headline figures are the faces' gazes (both eyes) relative to the head, as the paper's.
-    nlohmann::json result = ToJson(by_photo.all, "photos");
-    result["crops"] = fits.size();
-    result["one_eye"] = ToJson(by_crop.all, "crops");
-    result["camera_frame"] = ToJson(by_photo_camera.all, "photos");
-    result["fits_per_s"] = RoundTo(fits_per_s, 2);
-    result["threads"] = options.threads;
-    result["head_pose"] = options.known_head_pose ? "known (-P from the file name)" : "estimated";
-    result["fit_options"] = FitOptionsToJson(fit_options);
-    result["appearance_prior"] = use_appearance ? appearance.source : "off";
-    for (const auto& [subject, summary] : by_subject) result["by_subject"][subject] = ToJson(summary, "photos");
-    result["subject_resampling"] = {{"subjects", spread.subjects},
-                                    {"yaw_mean_p5_deg", RoundTo(spread.yaw_low, 3)},
-                                    {"yaw_mean_p95_deg", RoundTo(spread.yaw_high, 3)},
-                                    {"pitch_mean_p5_deg", RoundTo(spread.pitch_low, 3)},
-                                    {"pitch_mean_p95_deg", RoundTo(spread.pitch_high, 3)}};
-    for (const auto& [pose, summary] : by_photo.by_pose) {
-      nlohmann::json& entry = result["by_head_pose"][std::to_string(pose)];
-      entry = ToJson(summary, "photos");
-      entry["one_eye"] = ToJson(by_crop.by_pose.at(pose), "crops");
-      entry["camera_frame"] = ToJson(by_photo_camera.by_pose.at(pose), "photos");
-    }
-    for (const HeadYawReadings& h : head_readings) {
-      result["head_yaw_reading"][std::to_string(h.head_pose)] = {
-          {"photos", h.photos},
-          {"subjects", h.subjects},
-          {"mean_deg", RoundTo(h.mean_reading, 3)},
-          {"error_mean_deg", RoundTo(h.mean_error, 3)},
-          {"abs_error_mean_deg", RoundTo(h.mean_abs_error, 3)},
-          {"subject_spread_deg", RoundTo(h.subject_spread, 3)},
-          {"within_subject_deg", RoundTo(h.within_subject, 3)}};
-    }
-    fmt::print("{}\n", result.dump());
-    return 0;
+    PrintColumbiaJson(report, options, fit_options);
+  } else {
+    PrintColumbiaTables(report, options, dir);
   }
-  using Rows = std::vector<std::pair<std::string, ErrorSummary>>;
-  auto table = [](const Rows& rows, const std::string& key, const std::string& unit) {
-    fmt::print("{:>10} {:>6}   {:>9} {:>9}   {:>9} {:>9}   {:>15} {:>9}   {:>15} {:>9}\n", key, unit, "yaw mean",
-               "median", "pitch mean", "median", "zero yaw mean", "median", "zero pitch mean", "median");
-    auto row = [](const std::string& name, const ErrorSummary& s) {
-      fmt::print("{:>10} {:>6}   {:>9.2f} {:>9.2f}   {:>9.2f} {:>9.2f}   {:>15.2f} {:>9.2f}   {:>15.2f} {:>9.2f}\n", name,
-                 s.count, s.yaw_mean, s.yaw_median, s.pitch_mean, s.pitch_median, s.zero_yaw_mean, s.zero_yaw_median,
-                 s.zero_pitch_mean, s.zero_pitch_median);
-    };
-    for (const auto& [name, summary] : rows) row(name, summary);
-  };
-  auto by_pose_table = [&table](const PoseSummaries& summaries, const std::string& unit) {
-    Rows rows;
-    for (const auto& [pose, summary] : summaries.by_pose) rows.emplace_back(std::to_string(pose), summary);
-    rows.emplace_back("all", summaries.all);
-    table(rows, "head pose", unit);
-  };
-  fmt::print("gaze error on {} photos ({} crops) in {} (degrees)\n", photos.size(), fits.size(), dir.string());
-  fmt::print("labels: relative to the camera (0V 0H looks into the lens at every head pose); in the head's frame\n"
-             "they are turned by the head's yaw, -P\n");
-  fmt::print("relative to the head, the face's gaze: the mean of both eyes' fits where both crops are there\n");
-  by_pose_table(by_photo, "photos");
-  fmt::print("relative to the head, one eye: each crop on its own\n");
-  by_pose_table(by_crop, "crops");
-  fmt::print("relative to the camera, the face's gaze (zero: looking into the lens)\n");
-  by_pose_table(by_photo_camera, "photos");
-  fmt::print("relative to the head, the face's gaze, by subject\n");
-  table(Rows(by_subject.begin(), by_subject.end()), "subject", "photos");
-  if (spread.subjects > 1) {
-    fmt::print("resampling the {} subjects ({} draws with replacement), 5th-95th percentile of the mean: yaw "
-               "{:.2f}-{:.2f}, pitch {:.2f}-{:.2f}\n",
-               spread.subjects, spread.draws, spread.yaw_low, spread.yaw_high, spread.pitch_low, spread.pitch_high);
-  }
-  if (!head_readings.empty()) {
-    fmt::print("the head's yaw read from a photo's crops (the reading its fits were given), by head pose; error: the\n"
-               "reading less -P; subjects' spread: the s.d. of the subjects' mean readings; within a subject: a photo's\n"
-               "mean distance from its subject's mean\n");
-    fmt::print("{:>10} {:>6} {:>8}   {:>9} {:>10} {:>12}   {:>16} {:>16}\n", "head pose", "photos", "subjects", "reading",
-               "mean error", "mean |error|", "subjects' spread", "within a subject");
-    for (const HeadYawReadings& h : head_readings) {
-      fmt::print("{:>10} {:>6} {:>8}   {:>9.2f} {:>10.2f} {:>12.2f}   {:>16.2f} {:>16.2f}\n", h.head_pose, h.photos,
-                 h.subjects, h.mean_reading, h.mean_error, h.mean_abs_error, h.subject_spread, h.within_subject);
-    }
-  }
-  fmt::print("head pose: {}\n", options.known_head_pose ? "known (-P from the file names)"
-                                                         : "estimated from the crops (the mean of a photo's two readings)");
-  fmt::print("appearance gaze prior: {}\n", use_appearance ? appearance.source : "off");
-  fmt::print("fits per second: {:.2f} ({} threads)\n", fits_per_s, options.threads);
-  if (!options.plot.empty()) fmt::print("convergence plot: {}\n", options.plot);
   return 0;
 }
 
