@@ -414,20 +414,84 @@ Eigen::VectorXd AppearanceGazeTrainer::TurnOverPersonWeights(const Eigen::Matrix
   return weights / std::sqrt(weights.squaredNorm() / static_cast<double>(features));
 }
 
-AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
-  std::vector<const Sample*> samples;
-  std::vector<int> subject_of;  // an index per training subject, in the samples' order
-  AppearanceGaze model;
-  for (const auto& [subject, these] : by_subject_) {
-    if (subject == left_out) continue;
-    for (const Sample& sample : these) {
-      samples.push_back(&sample);
-      subject_of.push_back(static_cast<int>(model.subjects_.size()));
+namespace {
+
+// The squared Euclidean distances between the rows of `points`.
+Eigen::MatrixXd SquaredDistancesBetween(const Eigen::MatrixXd& points) {
+  const Eigen::VectorXd norms = points.rowwise().squaredNorm();
+  Eigen::MatrixXd squared = -2.0 * points * points.transpose();
+  squared.colwise() += norms;
+  squared.rowwise() += norms.transpose();
+  return squared.cwiseMax(0.0);
+}
+
+// Kernel ridge regressions over one set of exemplars: a Gaussian kernel in
+// their squared distances, with the head turns' term for the regressions that
+// read a turned eye (the camera and turned yaws), the ridge on its diagonal.
+class KernelRidge {
+ public:
+  struct Solved {
+    Eigen::VectorXd weights;  // one per exemplar; 0 for those without a label
+    double offset = 0;
+    int samples = 0;
+    std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> factor;
+    std::vector<Eigen::Index> rows;  // the exemplars it learned from
+  };
+
+  KernelRidge(const Eigen::MatrixXd& squared_distances, const Eigen::VectorXd& turns, double width, double ridge)
+      : squared_(squared_distances), turns_(turns), width_(width), ridge_(ridge) {}
+
+  // The regression of `labels` (one per exemplar, NaN: unknown) on the
+  // exemplars whose label is known. `same`: a regression on the same kernel,
+  // whose factor serves when it learned from the same exemplars.
+  Solved Solve(const Eigen::VectorXd& labels, bool turned, const char* name, const Solved* same = nullptr) const {
+    Solved solved;
+    for (Eigen::Index i = 0; i < labels.size(); ++i) {
+      if (!std::isnan(labels[i])) solved.rows.push_back(i);
     }
-    model.subjects_.push_back(subject);
+    const Eigen::Index m = static_cast<Eigen::Index>(solved.rows.size());
+    solved.samples = static_cast<int>(m);
+    if (m == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
+    Eigen::VectorXd known(m);
+    for (Eigen::Index a = 0; a < m; ++a) known[a] = labels[solved.rows[a]];
+    solved.offset = known.mean();
+    if (same != nullptr && same->rows == solved.rows) {
+      solved.factor = same->factor;
+    } else {
+      solved.factor = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(Matrix(solved.rows, turned));
+    }
+    const Eigen::VectorXd weights = solved.factor->solve((known.array() - solved.offset).matrix());
+    solved.weights.setZero(labels.size());
+    for (Eigen::Index a = 0; a < m; ++a) solved.weights[solved.rows[a]] = weights[a];
+    return solved;
   }
+
+ private:
+  Eigen::MatrixXd Matrix(const std::vector<Eigen::Index>& rows, bool turned) const {
+    const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
+    Eigen::MatrixXd kernel(m, m);
+    for (Eigen::Index b = 0; b < m; ++b) {
+      for (Eigen::Index a = 0; a < m; ++a) {
+        const Eigen::Index i = rows[a], j = rows[b];
+        double distance = squared_(i, j);
+        if (turned) distance += std::pow(kTurnWeight * (turns_[i] - turns_[j]), 2);
+        kernel(a, b) = std::exp(-distance / width_);
+      }
+    }
+    kernel.diagonal().array() += ridge_;
+    return kernel;
+  }
+
+  const Eigen::MatrixXd& squared_;
+  const Eigen::VectorXd& turns_;
+  double width_, ridge_;
+};
+
+}  // namespace
+
+void AppearanceGazeTrainer::SetExemplars(const std::vector<const Sample*>& samples, const std::vector<int>& subject_of,
+                                         AppearanceGaze& model) {
   const Eigen::Index n = static_cast<Eigen::Index>(samples.size());
-  if (n == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with pitch");
   // The features standardised over the training crops, the eye's side weighed.
   const Eigen::Index features = AppearanceGaze::NumCropFeatures() - 1;
   Eigen::MatrixXd exemplars(n, features + 1);
@@ -449,82 +513,53 @@ AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
   model.feature_scale_ = model.feature_scale_.cwiseQuotient(emphasis);
   exemplars.col(features) *= kSideWeight;
   model.exemplars_ = exemplars.cast<float>();
-  // Distances as the reading computes them, from the float exemplars.
-  const Eigen::MatrixXd stored = model.exemplars_.cast<double>();
-  const Eigen::VectorXd norms = stored.rowwise().squaredNorm();
-  Eigen::MatrixXd squared = -2.0 * stored * stored.transpose();
-  squared.colwise() += norms;
-  squared.rowwise() += norms.transpose();
-  squared = squared.cwiseMax(0.0);
-  model.kernel_width_ = KernelWidth(squared);
   model.exemplar_turns_.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double head_yaw = samples[i]->head_yaw;
     model.exemplar_turns_[i] = std::isnan(head_yaw) ? 0.0 : head_yaw / kTurnScaleDeg;  // already mirrored
   }
+}
 
-  // The kernel between some exemplars (with the head turns' term for the
-  // camera and turned yaws), the ridge on its diagonal.
-  auto kernel_matrix = [&](const std::vector<Eigen::Index>& rows, bool turned) {
-    const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
-    Eigen::MatrixXd kernel(m, m);
-    for (Eigen::Index b = 0; b < m; ++b) {
-      for (Eigen::Index a = 0; a < m; ++a) {
-        const Eigen::Index i = rows[a], j = rows[b];
-        double distance = squared(i, j);
-        if (turned) distance += std::pow(kTurnWeight * (model.exemplar_turns_[i] - model.exemplar_turns_[j]), 2);
-        kernel(a, b) = std::exp(-distance / model.kernel_width_);
-      }
+AppearanceGaze AppearanceGazeTrainer::Solve(const std::string& left_out) const {
+  std::vector<const Sample*> samples;
+  std::vector<int> subject_of;  // an index per training subject, in the samples' order
+  AppearanceGaze model;
+  for (const auto& [subject, these] : by_subject_) {
+    if (subject == left_out) continue;
+    for (const Sample& sample : these) {
+      samples.push_back(&sample);
+      subject_of.push_back(static_cast<int>(model.subjects_.size()));
     }
-    kernel.diagonal().array() += ridge_;
-    return kernel;
+    model.subjects_.push_back(subject);
+  }
+  if (samples.empty()) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with pitch");
+  SetExemplars(samples, subject_of, model);
+  // Distances as the reading computes them, from the float exemplars.
+  const Eigen::MatrixXd squared = SquaredDistancesBetween(model.exemplars_.cast<double>());
+  model.kernel_width_ = KernelWidth(squared);
+  const KernelRidge kernel(squared, model.exemplar_turns_, model.kernel_width_, ridge_);
+
+  auto labels = [&](double Sample::*label) {
+    Eigen::VectorXd values(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) values[i] = samples[i]->*label;
+    return values;
   };
-  // One regression: the exemplars whose label is known, ridge on the weights.
-  struct Solved {
-    AppearanceGaze::Regression regression;
-    int samples = 0;
-    std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> factor;
-    std::vector<Eigen::Index> rows;
-  };
-  // `same`: a regression on the same kernel, whose factor serves when it
-  // learned from the same exemplars.
-  auto solve = [&](double Sample::*label, bool turned, const char* name, const Solved* same = nullptr) {
-    Solved solved;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (!std::isnan(samples[i]->*label)) solved.rows.push_back(i);
-    }
-    const Eigen::Index m = static_cast<Eigen::Index>(solved.rows.size());
-    solved.samples = static_cast<int>(m);
-    if (m == 0) Fail(ExitCode::kBadInput, "appearance gaze: no training crops labelled with {}", name);
-    Eigen::VectorXd labels(m);
-    for (Eigen::Index a = 0; a < m; ++a) labels[a] = samples[solved.rows[a]]->*label;
-    solved.regression.offset = labels.mean();
-    solved.regression.weights.setZero(n);
-    if (same != nullptr && same->rows == solved.rows) {
-      solved.factor = same->factor;
-    } else {
-      solved.factor = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(kernel_matrix(solved.rows, turned));
-    }
-    const Eigen::VectorXd weights = solved.factor->solve((labels.array() - solved.regression.offset).matrix());
-    for (Eigen::Index a = 0; a < m; ++a) solved.regression.weights[solved.rows[a]] = weights[a];
-    return solved;
-  };
-  const Solved pitch = solve(&Sample::pitch, false, "pitch");
-  model.pitch_ = pitch.regression;
+  const KernelRidge::Solved pitch = kernel.Solve(labels(&Sample::pitch), false, "pitch");
+  const KernelRidge::Solved frontal = kernel.Solve(labels(&Sample::frontal_yaw), false, "yaw with the head facing the camera");
+  const KernelRidge::Solved camera = kernel.Solve(labels(&Sample::camera_yaw), true, "yaw");
+  const KernelRidge::Solved turned = kernel.Solve(labels(&Sample::turned_yaw), true, "yaw", &camera);
+  const KernelRidge::Solved head = kernel.Solve(labels(&Sample::head_yaw), false, "head yaw", &pitch);
+  model.pitch_ = {pitch.weights, pitch.offset};
+  model.frontal_yaw_ = {frontal.weights, frontal.offset};
+  model.camera_yaw_ = {camera.weights, camera.offset};
+  model.turned_yaw_ = {turned.weights, turned.offset};
+  model.head_yaw_ = {head.weights, head.offset};
   model.samples_.pitch = pitch.samples;
-  const Solved frontal = solve(&Sample::frontal_yaw, false, "yaw with the head facing the camera");
-  model.frontal_yaw_ = frontal.regression;
   model.samples_.frontal_yaw = frontal.samples;
-  const Solved camera = solve(&Sample::camera_yaw, true, "yaw");
-  model.camera_yaw_ = camera.regression;
   model.samples_.camera_yaw = camera.samples;
-  const Solved turned = solve(&Sample::turned_yaw, true, "yaw", &camera);
-  model.turned_yaw_ = turned.regression;
   model.samples_.turned_yaw = turned.samples;
-  const Solved head = solve(&Sample::head_yaw, false, "head yaw", &pitch);
-  model.head_yaw_ = head.regression;
   model.samples_.head_yaw = head.samples;
-  model.head_yaw_slope_ = HeadYawSlope(*head.factor, head.rows, samples, subject_of, head.regression);
+  model.head_yaw_slope_ = HeadYawSlope(*head.factor, head.rows, samples, subject_of, model.head_yaw_);
   model.ridge_ = ridge_;
   return model;
 }

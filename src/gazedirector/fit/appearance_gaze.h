@@ -207,6 +207,10 @@ class AppearanceGazeTrainer {
     // In the mirrored frame; NaN where unlabelled.
     double pitch, frontal_yaw, camera_yaw, turned_yaw, head_yaw;
   };
+  // Sets the model's exemplars (the samples' features standardised, weighed
+  // by TurnOverPersonWeights, the eye's side last) and their head turns.
+  static void SetExemplars(const std::vector<const Sample*>& samples, const std::vector<int>& subject_of,
+                           AppearanceGaze& model);
   // AppearanceGaze::head_yaw_slope() of the head-yaw regression whose factor
   // and weights these are.
   static double HeadYawSlope(const Eigen::LLT<Eigen::MatrixXd>& factor, const std::vector<Eigen::Index>& rows,
