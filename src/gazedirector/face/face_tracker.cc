@@ -188,12 +188,7 @@ FaceTracker::Track FaceTracker::StartTrack(const Detection& detection) {
   return track;
 }
 
-std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s, const Camera& camera) {
-  ToGray(bgr, gray_);
-  if (bgr.channels() == 1) gray_ = bgr;
-
-  // Follow the existing tracks from their last landmarks.
-  std::vector<bool> refreshed(tracks_.size(), false);
+std::vector<Detection> FaceTracker::SearchFrame() {
   const bool search = tracks_.empty() || ++frames_since_search_ >= options_.search_interval;
   std::vector<Detection> detections;
   if (search) {
@@ -209,43 +204,44 @@ std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s
     }
   }
   if (frames_since_turned_search_ >= 0) ++frames_since_turned_search_;
-  std::vector<bool> used(detections.size(), false);
-  for (std::size_t t = 0; t < tracks_.size(); ++t) {
-    Track& track = tracks_[t];
-    const double roll = PredictionRoll(LandmarkRoll(track.raw));
-    const cv::Rect2d predicted = BoxFromLandmarks(track.raw, track.calibration, roll);
-    int best = -1;
-    double best_iou = 0.3;
-    for (std::size_t d = 0; d < detections.size(); ++d) {
-      const double iou = IntersectionOverUnion(predicted, detections[d].box);
-      if (!used[d] && iou > best_iou) best = static_cast<int>(d), best_iou = iou;
-    }
-    if (best >= 0) {
-      // A fresh detection re-anchors the box and its relation to the landmarks.
-      used[best] = true;
-      track.box = detections[best].box;
-      track.roll = roll;
-      track.raw = FindLandmarks(gray_, track.box, track.roll);
-      track.calibration = Calibrate(track.box, track.roll, track.raw);
-      track.confidence = ConfidenceFromScore(detections[best].score);
-    } else {
-      track.box = predicted;
-      track.roll = roll;
-      track.raw = FindLandmarks(gray_, track.box, track.roll);
-      track.confidence = ConfidenceFromScore(detector_.Verify(gray_, track.box, -1.0, track.roll).score);
-    }
-    track.missed_frames = track.confidence < options_.missed_confidence ? track.missed_frames + 1 : 0;
-    refreshed[t] = true;
-  }
-  std::erase_if(tracks_, [&](const Track& track) { return track.missed_frames >= options_.max_missed_frames; });
+  return detections;
+}
 
-  // New faces.
+void FaceTracker::FollowTrack(Track& track, const std::vector<Detection>& detections, std::vector<bool>& used) {
+  const double roll = PredictionRoll(LandmarkRoll(track.raw));
+  const cv::Rect2d predicted = BoxFromLandmarks(track.raw, track.calibration, roll);
+  int best = -1;
+  double best_iou = 0.3;
+  for (std::size_t d = 0; d < detections.size(); ++d) {
+    const double iou = IntersectionOverUnion(predicted, detections[d].box);
+    if (!used[d] && iou > best_iou) best = static_cast<int>(d), best_iou = iou;
+  }
+  track.roll = roll;
+  if (best >= 0) {
+    // A fresh detection re-anchors the box and its relation to the landmarks.
+    used[best] = true;
+    track.box = detections[best].box;
+    track.raw = FindLandmarks(gray_, track.box, track.roll);
+    track.calibration = Calibrate(track.box, track.roll, track.raw);
+    track.confidence = ConfidenceFromScore(detections[best].score);
+  } else {
+    track.box = predicted;
+    track.raw = FindLandmarks(gray_, track.box, track.roll);
+    track.confidence = ConfidenceFromScore(detector_.Verify(gray_, track.box, -1.0, track.roll).score);
+  }
+  track.missed_frames = track.confidence < options_.missed_confidence ? track.missed_frames + 1 : 0;
+}
+
+void FaceTracker::StartNewTracks(const std::vector<Detection>& detections, const std::vector<bool>& used) {
   for (std::size_t d = 0; d < detections.size(); ++d) {
     if (used[d]) continue;
     const bool overlaps = std::any_of(tracks_.begin(), tracks_.end(),
                                       [&](const Track& track) { return SameFace(track.box, detections[d].box); });
     if (!overlaps) tracks_.push_back(StartTrack(detections[d]));
   }
+}
+
+void FaceTracker::DropDuplicateTracks() {
   // Two tracks that converged on one face: keep the older.
   for (std::size_t a = 0; a < tracks_.size(); ++a) {
     for (std::size_t b = a + 1; b < tracks_.size();) {
@@ -264,6 +260,17 @@ std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s
     tracks_.clear();
     tracks_.push_back(std::move(keep));
   }
+}
+
+std::vector<Face> FaceTracker::TrackFrame(const cv::Mat& bgr, double timestamp_s, const Camera& camera) {
+  ToGray(bgr, gray_);
+  if (bgr.channels() == 1) gray_ = bgr;
+  const std::vector<Detection> detections = SearchFrame();
+  std::vector<bool> used(detections.size(), false);
+  for (Track& track : tracks_) FollowTrack(track, detections, used);
+  std::erase_if(tracks_, [&](const Track& track) { return track.missed_frames >= options_.max_missed_frames; });
+  StartNewTracks(detections, used);
+  DropDuplicateTracks();
 
   std::vector<Face> faces;
   for (Track& track : tracks_) {

@@ -77,6 +77,17 @@ class FaceTracker {
   // either way to `detections`, and where there are none at all, those of the
   // image turned upside down (135 and 180 degrees); best first.
   void AddTurnedDetections(const cv::Mat& gray, double scale, std::vector<Detection>& detections);
+  // A video frame's detections: upright ones every search_interval frames
+  // (every frame while nothing is tracked), and turned ones while no face is
+  // in sight.
+  std::vector<Detection> SearchFrame();
+  // Moves `track` to this frame: re-anchored on the best unused detection
+  // overlapping its predicted box (marked used), else on the prediction.
+  void FollowTrack(Track& track, const std::vector<Detection>& detections, std::vector<bool>& used);
+  // A track for each unused detection that is not a tracked face.
+  void StartNewTracks(const std::vector<Detection>& detections, const std::vector<bool>& used);
+  // Of tracks that converged on one face, the older; with largest_only, the largest.
+  void DropDuplicateTracks();
   Track StartTrack(const Detection& detection);
   void Smooth(Track& track, double timestamp_s);
   Face ToFace(Track& track, const Camera& camera, bool use_previous_pose);
