@@ -141,13 +141,9 @@ bool IrisOffTooFar(double offset, const RedirectCommandOptions& options) {
   return options.max_iris_offset > 0 && offset > options.max_iris_offset;
 }
 
-int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
-  const std::vector<std::filesystem::path> inputs = {options.input};
-  const SourceImage source = ReadSourceImage(options.input);
-  const cv::Mat& image = source.bgr;
-  const Camera camera = options.camera.Resolve(image.cols, image.rows);
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
-
+// A still's fits: from --fits, else fitted now.
+std::vector<StoredFit> FitsOfImage(const RedirectCommandOptions& options, const FittingSetup& setup,
+                                   const cv::Mat& image, const Camera& camera) {
   std::vector<StoredFit> fits;
   if (!options.fits.empty()) {
     const FitsFile file = ReadFits(options.fits);
@@ -158,11 +154,19 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
     fits = file.frames.begin()->second.faces;
   } else {
     GazeTracker tracker = setup.MakeTracker();
-    for (const FaceFit& fit : tracker.ProcessImage(image, camera)) {
-      fits.push_back(StoredFit::Of(fit));
-    }
+    for (const FaceFit& fit : tracker.ProcessImage(image, camera)) fits.push_back(StoredFit::Of(fit));
   }
   if (fits.empty()) Fail(ExitCode::kNoFace, "no face found in {}; nothing to redirect", options.input);
+  return fits;
+}
+
+int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  const SourceImage source = ReadSourceImage(options.input);
+  const cv::Mat& image = source.bgr;
+  const Camera camera = options.camera.Resolve(image.cols, image.rows);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  const std::vector<StoredFit> fits = FitsOfImage(options, setup, image, camera);
 
   cv::Mat result = image.clone();
   Redirector redirector(setup.model, MakeRedirectOptions(options));
@@ -319,38 +323,47 @@ std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, d
   return weights;
 }
 
-int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) {
-  const std::vector<std::filesystem::path> inputs = {options.input};
-  VideoReader reader(options.input);
-  const VideoInfo& info = reader.info();
-  const Camera camera = options.camera.Resolve(info.width, info.height);
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
-  const std::vector<double> starts = script.StartTimes();
+void WarnOfUnseenSegments(const GazeScript& script, const VideoInfo& info) {
   std::vector<std::string> unseen;
-  for (const double start : starts) {
+  for (const double start : script.StartTimes()) {
     if (start >= info.duration_s()) unseen.push_back(fmt::format("{:g} s", start));
   }
   if (!unseen.empty()) {
     spdlog::warn("the video ends at {:.1f} s, so the gaze script's segment{} starting at {} will not be seen",
                  info.duration_s(), unseen.size() == 1 ? "" : "s", fmt::join(unseen, ", "));
   }
+}
 
-  // Stage 1: the fits, given, stored by an earlier run, or tracked now.
-  FitsFile fits;
-  std::optional<std::set<FitKey>> iris_off;  // found while tracking, else in a pass of their own
+// A video's fits: given (--fits), stored by an earlier run, or tracked now;
+// `iris_off` is filled where tracking found them on the way.
+FitsFile FitsOfVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const Camera& camera,
+                     std::optional<std::set<FitKey>>& iris_off) {
   if (!options.fits.empty()) {
-    fits = ReadFits(options.fits);
+    FitsFile fits = ReadFits(options.fits);
     spdlog::info("using the fits in {} ({} frames)", options.fits, fits.frames.size());
-  } else {
-    const std::filesystem::path cache = FitsCachePath(options.output);
-    if (!options.refit && std::filesystem::exists(cache) && CacheMatches(cache, options.input)) {
-      fits = ReadFits(cache);
-      spdlog::info("reusing the fits stored in {} (--refit to track again)", cache.string());
-    } else {
-      fits = TrackVideo(options, setup, camera, cache, iris_off.emplace());
-      spdlog::info("fits stored in {}; edit them and pass --fits to re-render", cache.string());
-    }
+    return fits;
   }
+  const std::filesystem::path cache = FitsCachePath(options.output);
+  if (!options.refit && std::filesystem::exists(cache) && CacheMatches(cache, options.input)) {
+    spdlog::info("reusing the fits stored in {} (--refit to track again)", cache.string());
+    return ReadFits(cache);
+  }
+  FitsFile fits = TrackVideo(options, setup, camera, cache, iris_off.emplace());
+  spdlog::info("fits stored in {}; edit them and pass --fits to re-render", cache.string());
+  return fits;
+}
+
+int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) {
+  const std::vector<std::filesystem::path> inputs = {options.input};
+  VideoReader reader(options.input);
+  const VideoInfo& info = reader.info();
+  const Camera camera = options.camera.Resolve(info.width, info.height);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  WarnOfUnseenSegments(script, info);
+
+  // Stage 1: the fits, and the faces and frames held as they were.
+  std::optional<std::set<FitKey>> iris_off;  // found while tracking, else in a pass of their own
+  const FitsFile fits = FitsOfVideo(options, setup, camera, iris_off);
   RequireFitsOfSize(fits, info.width, info.height);
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
   if (!iris_off) iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
