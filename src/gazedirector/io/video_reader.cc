@@ -52,6 +52,14 @@ std::vector<double> ProbeFrameTimes(const std::filesystem::path& video) {
   return times;
 }
 
+// `name` where it is one of `known`, else empty.
+std::string KnownOrEmpty(const std::string& name, std::initializer_list<const char*> known) {
+  for (const char* k : known) {
+    if (name == k) return name;
+  }
+  return "";
+}
+
 // True only when ffprobe reads the file and lists no video stream in it.
 bool HoldsNoVideoStream(const std::filesystem::path& path) {
   if (!ProgramExists("ffprobe")) return false;
@@ -133,6 +141,35 @@ bool VideoReader::Read(cv::Mat& frame) {
 
 bool VideoReader::EndedEarly() const {
   return ended_ && info_.frame_count > 0 && frame_index_ + 1 < info_.frame_count - 1;
+}
+
+ColourTags ProbeColourTags(const std::filesystem::path& video) {
+  if (!ProgramExists("ffprobe")) return {};
+  const std::optional<std::string> output =
+      RunForOutput({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
+                    "stream=color_space,color_transfer,color_primaries", "-of", "default=noprint_wrappers=1",
+                    video.string()});
+  ColourTags tags;
+  if (!output) return tags;
+  std::istringstream lines(*output);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const std::size_t equals = line.find('=');
+    if (equals == std::string::npos) continue;
+    const std::string key = line.substr(0, equals), value = line.substr(equals + 1);
+    // Those that ffmpeg's -colorspace, -color_trc and -color_primaries take
+    // back ("unknown", "reserved" and rarities are left untagged).
+    if (key == "color_space") {
+      tags.matrix = KnownOrEmpty(value, {"bt709", "bt470bg", "smpte170m", "smpte240m", "fcc", "bt2020nc", "bt2020c"});
+    } else if (key == "color_transfer") {
+      tags.transfer = KnownOrEmpty(value, {"bt709", "gamma22", "gamma28", "smpte170m", "smpte240m", "linear",
+                                           "iec61966-2-1", "bt2020-10", "bt2020-12", "smpte2084", "arib-std-b67"});
+    } else if (key == "color_primaries") {
+      tags.primaries = KnownOrEmpty(value, {"bt709", "bt470m", "bt470bg", "smpte170m", "smpte240m", "film", "bt2020",
+                                            "smpte431", "smpte432"});
+    }
+  }
+  return tags;
 }
 
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info) {

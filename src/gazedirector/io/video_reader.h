@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
 
 #include <opencv2/core.hpp>
 
@@ -66,5 +67,17 @@ class VideoReader {
 // with ffprobe; the stated rate where ffprobe is missing or the times cannot
 // be read.
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info);
+
+// How a video's stored colour values are to be shown: the YUV matrix, the
+// transfer curve and the primaries, as ffmpeg names them ("bt709", ...);
+// empty where the file does not say (players then guess).
+struct ColourTags {
+  std::string matrix, transfer, primaries;
+  bool operator==(const ColourTags&) const = default;
+};
+
+// The colour tags of a video's first video stream, read with ffprobe; only
+// names ffmpeg accepts back are kept. Empty without ffprobe.
+ColourTags ProbeColourTags(const std::filesystem::path& video);
 
 }  // namespace gazedirector

@@ -10,7 +10,13 @@ namespace gazedirector {
 namespace fs = std::filesystem;
 
 VideoWriterOptions WriterOptionsFor(const fs::path& source, const VideoInfo& info, int width) {
-  return {width > 0 ? width : info.width, info.height, SteadyFrameRate(source, info), source};
+  VideoWriterOptions options;
+  options.width = width > 0 ? width : info.width;
+  options.height = info.height;
+  options.frame_rate = SteadyFrameRate(source, info);
+  options.audio_source = source;
+  options.colour = ProbeColourTags(source);
+  return options;
 }
 
 VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options, const std::vector<fs::path>& inputs)
@@ -33,8 +39,15 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options
     argv.insert(argv.end(), {"-vf", "split[a][b];[a]palettegen=stats_mode=diff[p];[b][p]paletteuse=dither=bayer"});
   } else {
     const bool even = options.width % 2 == 0 && options.height % 2 == 0;
+    // swscale's default RGB to YUV conversion truncates: frames came out about
+    // 1 grey level darker than they went in, and 2 after decoding.
     argv.insert(argv.end(), {"-c:v", "libx264", "-preset", "veryfast", "-crf", std::to_string(options.crf),
-                             "-pix_fmt", even ? "yuv420p" : "yuv444p", "-r", rate});
+                             "-pix_fmt", even ? "yuv420p" : "yuv444p", "-r", rate,
+                             "-sws_flags", "bicubic+accurate_rnd"});
+    const ColourTags& colour = options.colour;
+    if (!colour.matrix.empty()) argv.insert(argv.end(), {"-colorspace", colour.matrix});
+    if (!colour.transfer.empty()) argv.insert(argv.end(), {"-color_trc", colour.transfer});
+    if (!colour.primaries.empty()) argv.insert(argv.end(), {"-color_primaries", colour.primaries});
     if (extension == ".mp4" || extension == ".mov" || extension == ".m4v") argv.insert(argv.end(), {"-movflags", "+faststart"});
   }
   argv.push_back(output_.temp_path().string());

@@ -20,6 +20,10 @@ struct VideoWriterOptions {
   FrameRate frame_rate;
   // Audio tracks are copied unchanged from this file when set and present.
   std::filesystem::path audio_source;
+  // Written into the output (not GIF) so that players show its colours as the
+  // source's: frames are read and written with the same matrix, so the tags
+  // of the source describe the output's values too.
+  ColourTags colour = {};
   int crf = 18;  // x264 quality: 18 is visually lossless
 };
 

@@ -1,5 +1,6 @@
 #include "gazedirector/io/video_writer.h"
 
+#include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -53,6 +54,45 @@ TEST(VideoWriterTest, GivesFramesThatComeSoonerThanOneStepEachAFrame) {
   for (int i = 0; i < static_cast<int>(times.size()); ++i) writer.Write(NumberedFrame(i), times[i]);
   writer.Finish();
   EXPECT_EQ(ShownNumbers(path), (std::vector<int>{0, 1, 2, 3}));
+}
+
+// Frames read from a real video and written again keep their colours: the
+// same values (up to the encoder's loss; before, swscale's truncating RGB to
+// YUV made them 2 grey levels darker through a read and a write) and the
+// source's colour tags, so that players show them as the source (d10.mp4 is
+// BT.709, which players told nothing take for BT.601 at this size).
+TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsColours) {
+  ASSERT_TRUE(ProgramExists("ffmpeg") && ProgramExists("ffprobe")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path source = testing::DataPath("video/d10.mp4");
+  const fs::path path = ScratchDir("video_writer") / "again.mp4";
+  VideoReader reader(source);
+  VideoWriterOptions options = WriterOptionsFor(source, reader.info());
+  options.audio_source.clear();
+  EXPECT_EQ(options.colour, (ColourTags{"bt709", "bt709", "bt709"}));
+  std::vector<cv::Mat> frames;
+  {
+    VideoWriter writer(path, options);
+    cv::Mat frame;
+    while (frames.size() < 15 && reader.Read(frame)) {
+      frames.push_back(frame.clone());
+      writer.Write(frame, reader.timestamp_s());
+    }
+    writer.Finish();
+  }
+  EXPECT_EQ(ProbeColourTags(path), options.colour);
+  VideoReader again(path);
+  cv::Mat frame;
+  cv::Scalar difference;
+  for (const cv::Mat& original : frames) {
+    ASSERT_TRUE(again.Read(frame));
+    cv::Mat signed_difference;
+    cv::subtract(frame, original, signed_difference, cv::noArray(), CV_32F);
+    difference += cv::mean(signed_difference) / static_cast<double>(frames.size());
+  }
+  // What is left is the reader's own rounding (OpenCV decodes with swscale's
+  // fast path), about a grey level.
+  for (int channel = 0; channel < 3; ++channel) EXPECT_LT(std::abs(difference[channel]), 1.6) << channel;
+  EXPECT_EQ(ProbeColourTags(testing::DataPath("video/d3.mp4")), ColourTags{});  // untagged: left so
 }
 
 }  // namespace
