@@ -8,7 +8,7 @@ packages=(
   cmake ninja-build g++ pkg-config
   libopencv-dev libdlib-dev libdlib-data libeigen3-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
-  libgtest-dev libgmock-dev libbenchmark-dev ffmpeg
+  libgtest-dev libgmock-dev libbenchmark-dev libexiv2-dev ffmpeg
 )
 missing=()
 for package in "${packages[@]}"; do

@@ -102,6 +102,8 @@ TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
   const cv::Mat input = ReadImage(DataPath("images/d19.jpg")), result = ReadImage(dir / "out.jpg");
   EXPECT_EQ(result.cols, 2 * input.cols);
   EXPECT_EQ(result.rows, input.rows);
+  // The photo's EXIF comes along (io/photo_metadata_test.cc tests what it says).
+  EXPECT_FALSE(PhotoMetadata::Read(dir / "out.jpg").empty());
   for (const char* name : {"fit_overlay.png", "flow.png", "eyeball_mask.png", "skin_mask.png", "eyeball_layer.png"}) {
     EXPECT_TRUE(fs::exists(dir / "debug" / name)) << name;
   }

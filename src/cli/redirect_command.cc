@@ -204,7 +204,7 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
   }
   result = InSourceFormat(source, result, options.output);
   if (options.side_by_side) result = SideBySide(InSourceFormat(source, image, options.output), result);
-  WriteImage(options.output, result, inputs);
+  WriteImage(options.output, result, PhotoMetadata::Read(options.input), inputs);
   spdlog::info("{}: {} of {} face{} redirected to {} -> {}", options.input, redirected, fits.size(),
                fits.size() == 1 ? "" : "s", script.Describe(), options.output);
   return 0;

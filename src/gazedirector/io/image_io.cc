@@ -5,6 +5,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
 
 #include "gazedirector/io/atomic_output.h"
 #include "gazedirector/io/media.h"
@@ -135,6 +136,11 @@ cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const f
 }
 
 void WriteImage(const fs::path& path, const cv::Mat& image, const std::vector<fs::path>& inputs) {
+  WriteImage(path, image, PhotoMetadata(), inputs);
+}
+
+void WriteImage(const fs::path& path, const cv::Mat& image, const PhotoMetadata& metadata,
+                const std::vector<fs::path>& inputs) {
   AtomicOutput output(path, inputs);
   bool written = false;
   try {
@@ -143,6 +149,10 @@ void WriteImage(const fs::path& path, const cv::Mat& image, const std::vector<fs
     Fail(ExitCode::kOutput, "cannot write {}: {}", path.string(), e.err);
   }
   if (!written) Fail(ExitCode::kOutput, "cannot write {}: unknown image format or unwritable folder", path.string());
+  if (!metadata.WriteTo(output.temp_path(), image.cols, image.rows)) {
+    spdlog::warn("{}: written without the source photo's metadata (EXIF, ICC profile), which {} files cannot hold",
+                 path.string(), LowerExtension(path));
+  }
   output.Commit();
 }
 

@@ -5,6 +5,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "gazedirector/io/photo_metadata.h"
+
 namespace gazedirector {
 
 // Limits on what ReadImage accepts; outside them it fails with a clear error.
@@ -39,6 +41,11 @@ cv::Mat InSourceFormat(const SourceImage& source, const cv::Mat& edited, const s
 
 // Writes atomically (temp file + rename); the format follows the extension.
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
+                const std::vector<std::filesystem::path>& inputs = {});
+// The same, carrying over the metadata of the photo it was made from (EXIF,
+// XMP, ICC profile: PhotoMetadata), with a warning where the format cannot
+// hold it.
+void WriteImage(const std::filesystem::path& path, const cv::Mat& image, const PhotoMetadata& metadata,
                 const std::vector<std::filesystem::path>& inputs = {});
 
 }  // namespace gazedirector
