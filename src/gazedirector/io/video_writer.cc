@@ -14,7 +14,7 @@ VideoWriterOptions WriterOptionsFor(const fs::path& source, const VideoInfo& inf
   options.width = width > 0 ? width : info.width;
   options.height = info.height;
   options.frame_rate = SteadyFrameRate(source, info);
-  options.audio_source = source;
+  options.source = source;
   options.colour = ProbeColourTags(source);
   return options;
 }
@@ -32,8 +32,11 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options
                                    "-s", std::to_string(options.width) + "x" + std::to_string(options.height),
                                    "-framerate", rate, "-i", "pipe:0"};
   const bool gif = extension == ".gif";
-  if (!gif && !options.audio_source.empty()) {
-    argv.insert(argv.end(), {"-i", options.audio_source.string(), "-map", "0:v:0", "-map", "1:a?", "-c:a", "copy"});
+  if (!gif && !options.source.empty()) {
+    // Only the container's metadata: the source's display turn, the video
+    // stream's, is already in the frames, which are written upright.
+    argv.insert(argv.end(), {"-i", options.source.string(), "-map", "0:v:0", "-map", "1:a?", "-c:a", "copy",
+                             "-map_metadata", "1"});
   }
   if (gif) {
     argv.insert(argv.end(), {"-vf", "split[a][b];[a]palettegen=stats_mode=diff[p];[b][p]paletteuse=dither=bayer"});

@@ -67,7 +67,7 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsColours) {
   const fs::path path = ScratchDir("video_writer") / "again.mp4";
   VideoReader reader(source);
   VideoWriterOptions options = WriterOptionsFor(source, reader.info());
-  options.audio_source.clear();
+  options.source.clear();  // its audio, 15 s long, would outlast these frames
   EXPECT_EQ(options.colour, (ColourTags{"bt709", "bt709", "bt709"}));
   std::vector<cv::Mat> frames;
   {
@@ -93,6 +93,27 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsColours) {
   // fast path), about a grey level.
   for (int channel = 0; channel < 3; ++channel) EXPECT_LT(std::abs(difference[channel]), 1.6) << channel;
   EXPECT_EQ(ProbeColourTags(testing::DataPath("video/d3.mp4")), ColourTags{});  // untagged: left so
+}
+
+// The source's audio and the container's metadata (d10.mp4's creation time)
+// come along.
+TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsAudioAndMetadata) {
+  ASSERT_TRUE(ProgramExists("ffmpeg") && ProgramExists("ffprobe")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path source = testing::DataPath("video/d10.mp4");
+  const fs::path path = ScratchDir("video_writer") / "metadata.mp4";
+  VideoReader reader(source);
+  {
+    VideoWriter writer(path, WriterOptionsFor(source, reader.info()));
+    cv::Mat frame;
+    for (int i = 0; i < 5 && reader.Read(frame); ++i) writer.Write(frame, reader.timestamp_s());
+    writer.Finish();
+  }
+  auto probe = [](const fs::path& video, const std::string& entries) {
+    return RunForOutput({"ffprobe", "-v", "error", "-show_entries", entries, "-of", "csv=p=0", video.string()})
+        .value_or("none");
+  };
+  EXPECT_EQ(probe(path, "format_tags=creation_time"), "2024-07-11T07:56:57.000000Z\n");
+  EXPECT_EQ(probe(path, "stream=codec_type"), "video\naudio\n");
 }
 
 }  // namespace
