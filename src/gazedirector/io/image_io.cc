@@ -150,7 +150,8 @@ void WriteImage(const fs::path& path, const cv::Mat& image, const PhotoMetadata&
   }
   if (!written) Fail(ExitCode::kOutput, "cannot write {}: unknown image format or unwritable folder", path.string());
   if (!metadata.WriteTo(output.temp_path(), image.cols, image.rows)) {
-    spdlog::warn("{}: written without the source photo's metadata (EXIF, ICC profile), which {} files cannot hold",
+    spdlog::warn("{}: written without the source photo's metadata (EXIF, ICC profile), which could not be carried "
+                 "into a {} file",
                  path.string(), LowerExtension(path));
   }
   output.Commit();
