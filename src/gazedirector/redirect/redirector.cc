@@ -188,6 +188,116 @@ class EyeColourMatch {
   float bright_iris_ = -1;
 };
 
+// The eyelid warp over the eye region: every pixel's source in the photo
+// (itself, except where the re-posed model's facial skin fetches the photo
+// where its surface was), and the masks of that skin and of the new eyeballs.
+struct EyelidWarp {
+  cv::Mat map;           // CV_32FC2
+  cv::Mat skin_mask;     // 8-bit
+  cv::Mat eyeball_mask;  // 8-bit
+};
+
+EyelidWarp WarpFromModel(const RenderBuffers& target, const cv::Mat& source, bool warp_eyelids) {
+  const cv::Size size = source.size();
+  EyelidWarp warp;
+  warp.map.create(size, CV_32FC2);
+  for (int y = 0; y < size.height; ++y) {
+    for (int x = 0; x < size.width; ++x) warp.map.at<cv::Vec2f>(y, x) = {static_cast<float>(x), static_cast<float>(y)};
+  }
+  warp.skin_mask = cv::Mat(size, CV_8UC1, cv::Scalar(0));
+  warp.eyeball_mask = cv::Mat(size, CV_8UC1, cv::Scalar(0));
+  for (int pixel : target.foreground) {
+    const int part = target.PartAt(pixel);
+    if (IsEyeball(part)) {
+      warp.eyeball_mask.data[pixel] = 255;
+    } else if (warp_eyelids) {
+      const int y = pixel / size.width, x = pixel % size.width;
+      warp.map.at<cv::Vec2f>(y, x) = source.at<cv::Vec2f>(y, x);
+      warp.skin_mask.data[pixel] = 255;
+    }
+  }
+  return warp;
+}
+
+// The new eyeballs over the eye region: the rendering everywhere, and the
+// photo's own surface where it was found (transfer_mask), with where each
+// such pixel came from.
+struct EyeballTransfer {
+  cv::Mat rendered, transferred;  // CV_32FC3
+  cv::Mat transfer_mask;          // 8-bit
+  cv::Mat from_depth;             // sclera: how deep in the fitted opening its source was
+  cv::Mat moved_by;               // iris: how far its source was, in pixels
+  EyeColourMatch colours;
+
+  explicit EyeballTransfer(cv::Size size)
+      : rendered(size, CV_32FC3, cv::Scalar::all(0)),
+        transferred(size, CV_32FC3, cv::Scalar::all(0)),
+        transfer_mask(size, CV_8UC1, cv::Scalar(0)),
+        from_depth(size, CV_32FC1, cv::Scalar(0)),
+        moved_by(size, CV_32FC1, cv::Scalar(0)) {}
+};
+
+// Bright photo "iris" moved with the iris is sclera that a fitted iris
+// beside the photo's covered: the rendering fills it (where the eye barely
+// moves it stays as it was). Dark photo sclera belongs right at the new
+// lids; dragged deeper into the new opening it would draw streaks across
+// the white, which the rendering fills. Dark "sclera" that stays as deep
+// as it was is left alone: it is where the fit's iris was smaller than the
+// photo's, and an eye that barely moves must keep its iris. Returns the
+// clear sclera kept, which gives rendered sclera its colour (NearbySclera),
+// not the lashes' shade.
+cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& target, const cv::Mat& cornea,
+                                const cv::Mat& target_depth, float margin_px) {
+  cv::Mat clear_sclera(transfer.transfer_mask.size(), CV_8UC1, cv::Scalar(0));
+  const int width = transfer.transfer_mask.cols;
+  for (int pixel : target.foreground) {
+    const int x = pixel % width, y = pixel / width;
+    if (!transfer.transfer_mask.data[pixel]) continue;
+    if (cornea.at<float>(y, x) >= 0.5f) {  // iris
+      if (transfer.colours.bright_iris() > 0 && transfer.moved_by.at<float>(y, x) > margin_px &&
+          Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) > transfer.colours.bright_iris()) {
+        transfer.transfer_mask.data[pixel] = 0;
+      }
+      continue;
+    }
+    if (Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) >= transfer.colours.dark_sclera()) {
+      clear_sclera.data[pixel] = 255;
+    } else if (target_depth.at<float>(y, x) > margin_px &&
+               target_depth.at<float>(y, x) > transfer.from_depth.at<float>(y, x) + margin_px) {
+      transfer.transfer_mask.data[pixel] = 0;
+    }
+  }
+  return clear_sclera;
+}
+
+// What --debug-dir shows of one redirection; `specular`: the reflections
+// added (CV_32FC3), empty where none were.
+RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transfer, const cv::Mat& cornea,
+                           const cv::Mat& eyeball_layer, const cv::Mat& specular) {
+  RedirectLayers layers;
+  const cv::Size size = warp.map.size();
+  layers.flow.create(size, CV_32FC2);
+  for (int y = 0; y < size.height; ++y) {
+    for (int x = 0; x < size.width; ++x) {
+      const cv::Vec2f s = warp.map.at<cv::Vec2f>(y, x);
+      layers.flow.at<cv::Vec2f>(y, x) = {s[0] - x, s[1] - y};
+    }
+  }
+  layers.skin_mask = warp.skin_mask;
+  layers.eyeball_mask = warp.eyeball_mask;
+  layers.transfer_mask = transfer.transfer_mask;
+  layers.sclera_mask = warp.eyeball_mask & (cornea < 0.5f);
+  eyeball_layer.convertTo(layers.eyeball_layer, CV_8UC3, 255.0);
+  if (specular.empty()) {
+    layers.specular = cv::Mat(size, CV_8UC1, cv::Scalar(0));
+  } else {
+    cv::Mat grey;
+    cv::cvtColor(specular, grey, cv::COLOR_BGR2GRAY);
+    grey.convertTo(layers.specular, CV_8U, 255.0);
+  }
+  return layers;
+}
+
 // `image` blurred by a Gaussian of `sigma`, computed only where it is needed
 // to be right within `area` (the new eyeballs, a small part of the region).
 cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) {
@@ -380,22 +490,10 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   const cv::Mat mirror_source = Renderer::InterpolateAttribute(target_buffers_, *model_, mirrors_, 6);
 
   // The eyelid warp: facial skin pixels fetch the photo where their surface was.
-  cv::Mat map(region.size(), CV_32FC2);
-  for (int y = 0; y < map.rows; ++y) {
-    for (int x = 0; x < map.cols; ++x) map.at<cv::Vec2f>(y, x) = {static_cast<float>(x), static_cast<float>(y)};
-  }
-  cv::Mat skin_mask(region.size(), CV_8UC1, cv::Scalar(0)), eyeball_mask(region.size(), CV_8UC1, cv::Scalar(0));
-  for (int pixel : target_buffers_.foreground) {
-    const int part = target_buffers_.PartAt(pixel);
-    if (IsEyeball(part)) {
-      eyeball_mask.data[pixel] = 255;
-    } else if (options_.warp_eyelids) {
-      map.at<cv::Vec2f>(pixel / width, pixel % width) = source.at<cv::Vec2f>(pixel / width, pixel % width);
-      skin_mask.data[pixel] = 255;
-    }
-  }
+  const EyelidWarp warp = WarpFromModel(target_buffers_, source, options_.warp_eyelids);
+  const cv::Mat& eyeball_mask = warp.eyeball_mask;
   cv::Mat warped;
-  cv::remap(photo, warped, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::remap(photo, warped, warp.map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
 
   // Reflections: the environment that explains the photo's highlights.
   const auto& maps = BuiltInEnvironmentMaps();
@@ -414,10 +512,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // showed it, or showed its mirror image (away from old highlights), the
   // rendering elsewhere. Right up to the fitted lid margin: the lashes' shade
   // there is the photo's, which the rendering lacks.
-  cv::Mat rendered(region.size(), CV_32FC3, cv::Scalar::all(0)), transferred(region.size(), CV_32FC3, cv::Scalar::all(0));
-  cv::Mat transfer_mask(region.size(), CV_8UC1, cv::Scalar(0));
-  cv::Mat from_depth(region.size(), CV_32FC1, cv::Scalar(0));  // sclera: how deep in the fitted opening its source was
-  cv::Mat moved_by(region.size(), CV_32FC1, cv::Scalar(0));    // iris: how far its source was, in pixels
+  EyeballTransfer transfer(region.size());
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
   // How deep inside its eye opening each pixel is (pixels from the lids), in
@@ -429,14 +524,13 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));
-  EyeColourMatch colours;
   for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
     const int pixel = target_buffers_.foreground[i];
     const int part = target_buffers_.PartAt(pixel);
     if (!IsEyeball(part)) continue;
     const int x = pixel % width, y = pixel / width;
     const cv::Vec3f colour = RenderedBgr(target_buffers_, i);
-    rendered.at<cv::Vec3f>(y, x) = colour;
+    transfer.rendered.at<cv::Vec3f>(y, x) = colour;
     if (!options_.transfer_eyeballs) continue;
     // The photo where this surface point was, else where its mirror images were.
     // (The iris is dark itself: there the lashes' shade does no harm.)
@@ -464,54 +558,28 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       const cv::Vec3f old_highlight = static_cast<float>(gain) * Bilinear(old_specular, s[0], s[1]);
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
     }
-    transferred.at<cv::Vec3f>(y, x) = value;
+    transfer.transferred.at<cv::Vec3f>(y, x) = value;
     if (sclera) {
-      from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
+      transfer.from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
     } else {
-      moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
+      transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     }
-    transfer_mask.data[pixel] = 255;
-    colours.Add(value, colour, sclera);
+    transfer.transfer_mask.data[pixel] = 255;
+    transfer.colours.Add(value, colour, sclera);
   }
-  colours.Finish();
-  // Bright photo "iris" moved with the iris is sclera that a fitted iris
-  // beside the photo's covered: the rendering fills it (where the eye barely
-  // moves it stays as it was). Dark photo sclera belongs right at the new
-  // lids; dragged deeper into the new opening it would draw streaks across
-  // the white, which the rendering fills. Dark "sclera" that stays as deep
-  // as it was is left alone: it is where the fit's iris was smaller than the
-  // photo's, and an eye that barely moves must keep its iris. The clear
-  // sclera kept gives rendered sclera its colour (NearbySclera), not the
-  // lashes' shade.
-  cv::Mat clear_sclera(region.size(), CV_8UC1, cv::Scalar(0));
-  for (int pixel : target_buffers_.foreground) {
-    const int x = pixel % width, y = pixel / width;
-    if (!transfer_mask.data[pixel]) continue;
-    if (!is_sclera(x, y)) {
-      if (colours.bright_iris() > 0 && moved_by.at<float>(y, x) > margin_px &&
-          Luminance(transferred.at<cv::Vec3f>(y, x)) > colours.bright_iris()) {
-        transfer_mask.data[pixel] = 0;
-      }
-      continue;
-    }
-    if (Luminance(transferred.at<cv::Vec3f>(y, x)) >= colours.dark_sclera()) {
-      clear_sclera.data[pixel] = 255;
-    } else if (target_depth.at<float>(y, x) > margin_px &&
-               target_depth.at<float>(y, x) > from_depth.at<float>(y, x) + margin_px) {
-      transfer_mask.data[pixel] = 0;
-    }
-  }
+  transfer.colours.Finish();
+  const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =
-      colours.sclera_known()
-          ? NearbySclera(transferred, clear_sclera, eyeballs_area,
-                         std::max(1.0, options_.sclera_colour_reach * interocular_px), colours.sclera_colour())
+      transfer.colours.sclera_known()
+          ? NearbySclera(transfer.transferred, clear_sclera, eyeballs_area,
+                         std::max(1.0, options_.sclera_colour_reach * interocular_px), transfer.colours.sclera_colour())
           : cv::Mat();
   // The photo's share, feathered across the boundary with the rendering only:
   // blurred within the eyeball mask (normalised), so that the mask's own edge,
   // where the photo continues outside, does not fade into the rendering.
   cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
-  transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
+  transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   transfer_weight = BlurredWithin(transfer_weight, eyeballs_area, feather);
@@ -523,12 +591,12 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   for (int y = 0; y < region.height; ++y) {
     for (int x = 0; x < region.width; ++x) {
       if (!eyeball_mask.at<uchar>(y, x)) continue;
-      const float w = transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
-      const cv::Vec3f plain = rendered.at<cv::Vec3f>(y, x);
+      const float w = transfer.transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
+      const cv::Vec3f plain = transfer.rendered.at<cv::Vec3f>(y, x);
       const bool sclera = is_sclera(x, y);
-      const cv::Vec3f nearby_sclera = sclera && colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
-      cv::Vec3f colour = colours.Match(plain, sclera, nearby_sclera);
-      colour = w * transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
+      const cv::Vec3f nearby_sclera = sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
+      cv::Vec3f colour = transfer.colours.Match(plain, sclera, nearby_sclera);
+      colour = w * transfer.transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
       if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
       const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
@@ -540,28 +608,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   report.region = region;
 
   if (layers != nullptr) {
-    layers->flow.create(region.size(), CV_32FC2);
-    for (int y = 0; y < region.height; ++y) {
-      for (int x = 0; x < region.width; ++x) {
-        const cv::Vec2f s = map.at<cv::Vec2f>(y, x);
-        layers->flow.at<cv::Vec2f>(y, x) = {s[0] - x, s[1] - y};
-      }
-    }
-    layers->skin_mask = skin_mask;
-    layers->eyeball_mask = eyeball_mask;
-    layers->transfer_mask = transfer_mask;
-    layers->sclera_mask = cv::Mat(region.size(), CV_8UC1, cv::Scalar(0));
-    for (int pixel : target_buffers_.foreground) {
-      if (eyeball_mask.data[pixel] && is_sclera(pixel % width, pixel / width)) layers->sclera_mask.data[pixel] = 255;
-    }
-    eyeball_layer.convertTo(layers->eyeball_layer, CV_8UC3, 255.0);
-    if (!new_specular.empty()) {
-      cv::Mat grey;
-      cv::cvtColor(new_specular * gain, grey, cv::COLOR_BGR2GRAY);
-      grey.convertTo(layers->specular, CV_8U, 255.0);
-    } else {
-      layers->specular = cv::Mat(region.size(), CV_8UC1, cv::Scalar(0));
-    }
+    *layers = DebugLayers(warp, transfer, cornea, eyeball_layer, gain > 0 ? new_specular * gain : cv::Mat());
   }
   return report;
 }
