@@ -331,6 +331,45 @@ cv::Mat NearbySclera(const cv::Mat& transferred, const cv::Mat& shown, const cv:
   return nearby;
 }
 
+// The new eyeballs over the warped photo: the photo's share (`transfer`)
+// feathered into the rendering matched to the photo's colours (sclera: as
+// the photo's sclera nearby, `photo_sclera`), reflections added (`gain` x
+// `specular`), and a seam blurred by `seam` pixels. The photo's share is
+// blurred by `feather` within the eyeball mask (normalised), so that the
+// mask's own edge, where the photo continues outside, does not fade into the
+// rendering. `eyeball_layer` gets the eyeballs' colours before the seam.
+cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, const cv::Rect& eyeballs_area,
+                          const EyeballTransfer& transfer, const cv::Mat& cornea, const cv::Mat& photo_sclera,
+                          double gain, const cv::Mat& specular, double feather, double seam, cv::Mat& eyeball_layer) {
+  cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
+  transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
+  eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
+  transfer_weight = BlurredWithin(transfer_weight, eyeballs_area, feather);
+  eyeball_share = BlurredWithin(eyeball_weight, eyeballs_area, feather);
+  transfer_weight /= cv::max(eyeball_share, 1e-3f);
+  seam_alpha = BlurredWithin(eyeball_weight, eyeballs_area, seam);
+
+  eyeball_layer = warped.clone();
+  cv::Mat out = warped.clone();
+  for (int y = 0; y < warped.rows; ++y) {
+    for (int x = 0; x < warped.cols; ++x) {
+      if (!eyeball_mask.at<uchar>(y, x)) continue;
+      const float w = transfer.transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
+      const cv::Vec3f plain = transfer.rendered.at<cv::Vec3f>(y, x);
+      const bool sclera = cornea.at<float>(y, x) < 0.5f;
+      const cv::Vec3f nearby_sclera =
+          sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
+      cv::Vec3f colour = transfer.colours.Match(plain, sclera, nearby_sclera);
+      colour = w * transfer.transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
+      if (gain > 0) colour += static_cast<float>(gain) * specular.at<cv::Vec3f>(y, x);
+      eyeball_layer.at<cv::Vec3f>(y, x) = colour;
+      const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
+      out.at<cv::Vec3f>(y, x) = a * colour + (1 - a) * warped.at<cv::Vec3f>(y, x);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
@@ -575,34 +614,11 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
           ? NearbySclera(transfer.transferred, clear_sclera, eyeballs_area,
                          std::max(1.0, options_.sclera_colour_reach * interocular_px), transfer.colours.sclera_colour())
           : cv::Mat();
-  // The photo's share, feathered across the boundary with the rendering only:
-  // blurred within the eyeball mask (normalised), so that the mask's own edge,
-  // where the photo continues outside, does not fade into the rendering.
-  cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
-  transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
-  eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
-  transfer_weight = BlurredWithin(transfer_weight, eyeballs_area, feather);
-  eyeball_share = BlurredWithin(eyeball_weight, eyeballs_area, feather);
-  transfer_weight /= cv::max(eyeball_share, 1e-3f);
-  seam_alpha = BlurredWithin(eyeball_weight, eyeballs_area, std::max(0.5, options_.seam_blur * interocular_px));
-
-  cv::Mat eyeball_layer = warped.clone(), out = warped.clone();
-  for (int y = 0; y < region.height; ++y) {
-    for (int x = 0; x < region.width; ++x) {
-      if (!eyeball_mask.at<uchar>(y, x)) continue;
-      const float w = transfer.transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
-      const cv::Vec3f plain = transfer.rendered.at<cv::Vec3f>(y, x);
-      const bool sclera = is_sclera(x, y);
-      const cv::Vec3f nearby_sclera = sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
-      cv::Vec3f colour = transfer.colours.Match(plain, sclera, nearby_sclera);
-      colour = w * transfer.transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
-      if (gain > 0) colour += static_cast<float>(gain) * new_specular.at<cv::Vec3f>(y, x);
-      eyeball_layer.at<cv::Vec3f>(y, x) = colour;
-      const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
-      out.at<cv::Vec3f>(y, x) = a * colour + (1 - a) * warped.at<cv::Vec3f>(y, x);
-    }
-  }
+  const double seam = std::max(0.5, options_.seam_blur * interocular_px);
+  cv::Mat eyeball_layer;
+  const cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, cornea, photo_sclera, gain,
+                                        new_specular, feather, seam, eyeball_layer);
   out.convertTo(image(region), CV_8UC3, 255.0);
   report.redirected = eyes;
   report.region = region;
