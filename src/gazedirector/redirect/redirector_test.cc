@@ -26,6 +26,20 @@ const testing::FittedStill& Photo() {
   return photo;
 }
 
+// Photo() redirected from `fitted` to `target`, with what --debug-dir shows.
+struct Redirected {
+  cv::Mat image;
+  RedirectLayers layers;
+  RedirectReport report;
+};
+
+Redirected RedirectPhoto(Redirector& redirector, const Parameters& fitted, const Parameters& target) {
+  const testing::FittedStill& p = Photo();
+  Redirected redirected{p.image.clone(), {}, {}};
+  redirected.report = redirector.Redirect(redirected.image, p.camera, fitted, target, &redirected.layers);
+  return redirected;
+}
+
 // The centroid of the darkest pixels (the irises and pupils) among the
 // eyeball pixels of `mask` in `image`, corneal highlights filled in (they move
 // less than the iris and would pull the centroid away from themselves).
@@ -69,22 +83,21 @@ TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
 TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
-  RedirectLayers still_layers, moved_layers;
-  cv::Mat still = p.image.clone(), moved = p.image.clone();
   const Parameters target = Retarget(p.fit.phi, GazeTarget::Offset(0, 15));  // toward the subject's left: image right
-  redirector.Redirect(still, p.camera, p.fit.phi, p.fit.phi, &still_layers);
-  const RedirectReport report = redirector.Redirect(moved, p.camera, p.fit.phi, target, &moved_layers);
+  const Redirected still = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
+  const Redirected moved = RedirectPhoto(redirector, p.fit.phi, target);
+  const RedirectReport& report = moved.report;
   ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
   // Over the same pixels before and after: the eye openings of both.
   cv::Mat both;
-  cv::bitwise_or(still_layers.eyeball_mask, moved_layers.eyeball_mask, both);
+  cv::bitwise_or(still.layers.eyeball_mask, moved.layers.eyeball_mask, both);
   // Each eye on its own (the region's halves), then their mean.
   cv::Point2d before(0, 0), after(0, 0);
   for (int half = 0; half < 2; ++half) {
     cv::Mat mask = both.clone();
     mask(cv::Rect(half == 0 ? mask.cols / 2 : 0, 0, mask.cols - mask.cols / 2, mask.rows)).setTo(0);
-    before += 0.5 * DarkCentroid(still(report.region), mask);
-    after += 0.5 * DarkCentroid(moved(report.region), mask);
+    before += 0.5 * DarkCentroid(still.image(report.region), mask);
+    after += 0.5 * DarkCentroid(moved.image(report.region), mask);
   }
   // The model's own prediction: the mean image motion of the two iris centres
   // (10.5 mm in front of the eyeball centres).
@@ -129,23 +142,19 @@ Tone ToneUnder(const cv::Mat& image, const cv::Mat& mask, double dark) {
 TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
-  RedirectLayers still_layers;
-  cv::Mat still = p.image.clone();
-  const RedirectReport at_rest = redirector.Redirect(still, p.camera, p.fit.phi, p.fit.phi, &still_layers);
+  const Redirected at_rest = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
   cv::Mat shown;
-  cv::erode(still_layers.sclera_mask, shown, cv::Mat());
-  const Tone photo = ToneUnder(p.image(at_rest.region), shown, 0);
+  cv::erode(at_rest.layers.sclera_mask, shown, cv::Mat());
+  const Tone photo = ToneUnder(p.image(at_rest.report.region), shown, 0);
   ASSERT_GT(cv::countNonZero(shown), 30);
   for (double yaw : {-40.0, 40.0}) {
-    RedirectLayers layers;
-    cv::Mat turned = p.image.clone();
-    const RedirectReport report =
-        redirector.Redirect(turned, p.camera, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(0, yaw)), &layers);
+    const Redirected turned = RedirectPhoto(redirector, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(0, yaw)));
+    const RedirectReport& report = turned.report;
     ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
     cv::Mat inner;
-    cv::erode(layers.sclera_mask, inner, cv::Mat(), cv::Point(-1, -1), 2);
+    cv::erode(turned.layers.sclera_mask, inner, cv::Mat(), cv::Point(-1, -1), 2);
     ASSERT_GT(cv::countNonZero(inner), 30);
-    const Tone tone = ToneUnder(turned(report.region), inner, 0.6 * photo.luminance);
+    const Tone tone = ToneUnder(turned.image(report.region), inner, 0.6 * photo.luminance);
     std::printf("yaw %+.0f: sclera luminance %.1f (photo %.1f), redness %.3f (photo %.3f), dark %.3f\n", yaw,
                 tone.luminance, photo.luminance, tone.redness, photo.redness, tone.dark_fraction);
     EXPECT_NEAR(tone.redness, photo.redness, 0.03) << "yaw " << yaw;
@@ -188,12 +197,10 @@ TEST(RedirectorTest, RenderedScleraContinuesThePhotosSclera) {
   Redirector redirector(SharedModel());
   double mean_step = 0;
   for (const auto& [pitch, yaw] : {std::pair(15.0, 0.0), std::pair(0.0, 25.0), std::pair(0.0, -25.0)}) {
-    RedirectLayers layers;
-    cv::Mat result = p.image.clone();
-    const RedirectReport report =
-        redirector.Redirect(result, p.camera, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(pitch, yaw)), &layers);
-    ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
-    const double step = ScleraSeamStep(layers);
+    const Redirected result =
+        RedirectPhoto(redirector, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(pitch, yaw)));
+    ASSERT_TRUE(result.report.redirected[0] && result.report.redirected[1]) << result.report.note;
+    const double step = ScleraSeamStep(result.layers);
     std::printf("pitch %+.0f yaw %+.0f: rendered sclera %.1f grey levels brighter than the photo's beside it\n", pitch,
                 yaw, step);
     mean_step += step / 3;
@@ -220,24 +227,21 @@ TEST(RedirectorTest, AnIrisFittedBesideThePhotosCarriesNoScleraIntoTheNewOne) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
   // How bright the photo's iris and sclera are where the fit shows them.
-  RedirectLayers fitted;
-  cv::Mat unchanged = p.image.clone();
-  const RedirectReport as_fitted = redirector.Redirect(unchanged, p.camera, p.fit.phi, p.fit.phi, &fitted);
+  const Redirected as_fitted = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
+  const RedirectLayers& fitted = as_fitted.layers;
   cv::Mat fitted_iris = fitted.eyeball_mask & ~fitted.sclera_mask;
-  const double iris_level = Median(GreyLevels(p.image(as_fitted.region), fitted_iris));
-  const double sclera_level = Median(GreyLevels(p.image(as_fitted.region), fitted.sclera_mask));
+  const double iris_level = Median(GreyLevels(p.image(as_fitted.report.region), fitted_iris));
+  const double sclera_level = Median(GreyLevels(p.image(as_fitted.report.region), fitted.sclera_mask));
   ASSERT_GT(sclera_level, iris_level + 40);
 
   Parameters beside = p.fit.phi;
   beside.gaze_yaw() += 6;
-  RedirectLayers layers;
-  cv::Mat result = p.image.clone();
-  const RedirectReport report =
-      redirector.Redirect(result, p.camera, beside, Retarget(beside, GazeTarget::Offset(0, -20)), &layers);
+  const Redirected result = RedirectPhoto(redirector, beside, Retarget(beside, GazeTarget::Offset(0, -20)));
+  const RedirectReport& report = result.report;
   ASSERT_TRUE(report.redirected[0] && report.redirected[1]) << report.note;
-  cv::Mat new_iris = layers.eyeball_mask & ~layers.sclera_mask;
+  cv::Mat new_iris = result.layers.eyeball_mask & ~result.layers.sclera_mask;
   cv::erode(new_iris, new_iris, cv::Mat());  // the limbus itself blends into the sclera
-  const std::vector<double> levels = GreyLevels(result(report.region), new_iris);
+  const std::vector<double> levels = GreyLevels(result.image(report.region), new_iris);
   ASSERT_GT(levels.size(), 50u);
   const double halfway = 0.5 * (iris_level + sclera_level);
   const double bright = std::count_if(levels.begin(), levels.end(), [&](double v) { return v > halfway; });
@@ -261,9 +265,8 @@ TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
 TEST(RedirectorTest, TheEyelidWarpFollowsTheGaze) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
-  RedirectLayers layers;
-  cv::Mat result = p.image.clone();
-  redirector.Redirect(result, p.camera, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(-15, 0)), &layers);
+  const RedirectLayers layers =
+      RedirectPhoto(redirector, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(-15, 0))).layers;
   // Looking down lowers the upper lids: their skin comes from above (negative y flow... the
   // source lies above the output pixel), so the mean vertical flow over the skin is negative.
   double flow_y = 0;
