@@ -62,7 +62,6 @@ bool IsImagePath(const std::filesystem::path& path) {
 
 void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind, const std::string& input) {
   if (path.empty()) return;
-  RequireNotAnInput(path, {input});
   if (kind == MediaKind::kImage && !IsImagePath(path)) {
     Fail(ExitCode::kUsage, "{} {}: an image's output is an image (.png or .jpg)", option, path);
   }
@@ -75,10 +74,15 @@ void RequireOutputKind(const std::string& path, const std::string& option, Media
 void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
                             MediaKind kind, const std::string& input) {
   RequireExtension(output, "-o", {".json", ".jsonl"});
-  if (!csv.empty()) RequireExtension(csv, "--csv", {".csv"});
+  RequireCsvOutput(csv, {input});
   RequireOutputKind(overlay, "--overlay", kind, input);
   RequireWritable(output, {input});
-  if (!csv.empty()) RequireWritable(csv, {input});
+}
+
+void RequireCsvOutput(const std::string& csv, const std::vector<std::filesystem::path>& inputs) {
+  if (csv.empty()) return;
+  RequireExtension(csv, "--csv", {".csv"});
+  RequireWritable(csv, inputs);
 }
 
 void RequireImageOutput(const std::string& path, const std::string& option) {

@@ -4,6 +4,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -58,6 +59,9 @@ void RequireOutputKind(const std::string& path, const std::string& option, Media
 // empty), none of them the input, each writable.
 void RequireAnalysisOutputs(const std::string& output, const std::string& csv, const std::string& overlay,
                             MediaKind kind, const std::string& input);
+// Fails unless --csv, when given, is a .csv file that can be written and is
+// none of `inputs`.
+void RequireCsvOutput(const std::string& csv, const std::vector<std::filesystem::path>& inputs = {});
 // Fails unless `path` (given as `option`) names an image file (.png, .jpg, ...)
 // that can be written. An empty path passes.
 void RequireImageOutput(const std::string& path, const std::string& option);

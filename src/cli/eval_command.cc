@@ -18,7 +18,6 @@
 #include "gazedirector/eval/redirect_columbia.h"
 #include "gazedirector/fit/fit_options.h"
 #include "gazedirector/io/assets.h"
-#include "gazedirector/io/atomic_output.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/json_format.h"
 #include "gazedirector/io/text_writer.h"
@@ -139,13 +138,6 @@ cv::Mat ConvergencePlot(const std::vector<ColumbiaFit>& fits) {
   LinePlot error_plot("Gaze error", "Gauss-Newton iteration", "angle to the label (degrees)");
   error_plot.AddSeries("median, IQR", x, error.median, cv::Scalar(40, 40, 200), error.q25, error.q75);
   return SideBySide({energy_plot.Draw(), error_plot.Draw()});
-}
-
-// Fails unless --csv, when given, is a .csv file that can be written (and not `input`).
-void RequireCsvOutput(const std::string& csv, const std::string& input = "") {
-  if (csv.empty()) return;
-  RequireExtension(csv, "--csv", {".csv"});
-  RequireWritable(csv, input.empty() ? std::vector<std::filesystem::path>{} : std::vector<std::filesystem::path>{input});
 }
 
 std::filesystem::path ColumbiaDir(const EvalOptions& options) {
@@ -622,7 +614,7 @@ std::vector<StoredFit> FitsOfFrame(const std::optional<FitsFile>& stored, long i
 int RunIrisEval(const EvalOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.iris_input);
-  RequireCsvOutput(options.csv, options.iris_input);
+  RequireCsvOutput(options.csv, {options.iris_input});
   std::optional<FitsFile> stored;
   if (!options.iris_fits.empty()) stored = ReadFits(options.iris_fits);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);

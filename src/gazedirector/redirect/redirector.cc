@@ -188,6 +188,11 @@ class EyeColourMatch {
   float bright_iris_ = -1;
 };
 
+// An eyeball pixel shows sclera where its cornea flag, interpolated across
+// the limbus (Renderer::CorneaAttribute), is under this; else the iris.
+constexpr float kLimbus = 0.5f;
+bool IsSclera(const cv::Mat& cornea, int x, int y) { return cornea.at<float>(y, x) < kLimbus; }
+
 // The eyelid warp over the eye region: every pixel's source in the photo
 // (itself, except where the re-posed model's facial skin fetches the photo
 // where its surface was), and the masks of that skin and of the new eyeballs.
@@ -253,7 +258,7 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
   for (int pixel : target.foreground) {
     const int x = pixel % width, y = pixel / width;
     if (!transfer.transfer_mask.data[pixel]) continue;
-    if (cornea.at<float>(y, x) >= 0.5f) {  // iris
+    if (!IsSclera(cornea, x, y)) {
       if (transfer.colours.bright_iris() > 0 && transfer.moved_by.at<float>(y, x) > margin_px &&
           Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) > transfer.colours.bright_iris()) {
         transfer.transfer_mask.data[pixel] = 0;
@@ -286,7 +291,7 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
   layers.skin_mask = warp.skin_mask;
   layers.eyeball_mask = warp.eyeball_mask;
   layers.transfer_mask = transfer.transfer_mask;
-  layers.sclera_mask = warp.eyeball_mask & (cornea < 0.5f);
+  layers.sclera_mask = warp.eyeball_mask & (cornea < kLimbus);
   eyeball_layer.convertTo(layers.eyeball_layer, CV_8UC3, 255.0);
   if (specular.empty()) {
     layers.specular = cv::Mat(size, CV_8UC1, cv::Scalar(0));
@@ -356,7 +361,7 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
       if (!eyeball_mask.at<uchar>(y, x)) continue;
       const float w = transfer.transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
       const cv::Vec3f plain = transfer.rendered.at<cv::Vec3f>(y, x);
-      const bool sclera = cornea.at<float>(y, x) < 0.5f;
+      const bool sclera = IsSclera(cornea, x, y);
       const cv::Vec3f nearby_sclera =
           sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
       cv::Vec3f colour = transfer.colours.Match(plain, sclera, nearby_sclera);
@@ -553,7 +558,6 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   // there is the photo's, which the rendering lacks.
   EyeballTransfer transfer(region.size());
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
-  auto is_sclera = [&](int x, int y) { return cornea.at<float>(y, x) < 0.5f; };
   // How deep inside its eye opening each pixel is (pixels from the lids), in
   // the photo's fit and in the re-posed model. Surface the photo showed at
   // its lid margin carries the lashes' shade: it may land near the new
@@ -573,7 +577,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (!options_.transfer_eyeballs) continue;
     // The photo where this surface point was, else where its mirror images were.
     // (The iris is dark itself: there the lashes' shade does no harm.)
-    const bool sclera = is_sclera(x, y);
+    const bool sclera = IsSclera(cornea, x, y);
     const float depth_needed = sclera ? std::min(target_depth.at<float>(y, x), margin_px) - 0.5f : -1.0f;
     auto usable = [&](const cv::Vec2f& s) {
       const cv::Point at = NearestPixel(s);
