@@ -53,5 +53,9 @@ inline constexpr double kLimbusRadiusMm = 5.87;
 inline constexpr double kLimbusDepthMm = 10.75;
 inline constexpr double kLimbusUvRadius = 0.1385;  // measured: uv = 0.5 + 0.1385 (x, z) / 5.87 mm on the cornea
 inline constexpr double kScleraRadiusMm = 12.05;
+// The corneal bulge's central part is a sphere of 6.84 mm centred 6.22 mm in
+// front of the eyeball's centre (a sphere fitted to the mesh's cornea vertices
+// beyond 12.5 mm: residual 0.016 mm).
+inline constexpr double kCorneaCentreMm = 6.22;
 
 }  // namespace gazedirector::topology

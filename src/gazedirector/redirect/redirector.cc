@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/redirect/eye_image.h"
+#include "gazedirector/redirect/glints.h"
 #include "gazedirector/render/model_bounds.h"
 #include "gazedirector/util/statistics.h"
 
@@ -74,17 +76,6 @@ cv::Point NearestPixel(const cv::Vec2f& position) {
   return {static_cast<int>(std::lround(position[0])), static_cast<int>(std::lround(position[1]))};
 }
 
-float Luminance(const cv::Vec3f& bgr) { return 0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]; }
-
-cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
-  x = std::clamp(x, 0.0f, image.cols - 1.001f), y = std::clamp(y, 0.0f, image.rows - 1.001f);
-  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-  const float fx = x - x0, fy = y - y0;
-  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
-  return (1 - fy) * ((1 - fx) * image.at<cv::Vec3f>(y0, x0) + fx * image.at<cv::Vec3f>(y0, x1)) +
-         fy * ((1 - fx) * image.at<cv::Vec3f>(y1, x0) + fx * image.at<cv::Vec3f>(y1, x1));
-}
-
 // The rendering's colours matched to the photo's eye, from samples where
 // both are known, separately for the iris (the cornea, which shows it) and
 // the sclera: medians, which the few skin pixels a slightly wide fit lets in
@@ -133,7 +124,7 @@ class EyeColourMatch {
 
   // A rendered colour as the photo's eye would show it. Sclera takes the
   // colour of the photo's own sclera nearby (`photo_sclera`, see
-  // NearbySclera), shaded as rendered: the texture's reddish periphery, which
+  // NearbyColour), shaded as rendered: the texture's reddish periphery, which
   // a large turn brings into view, would read as smudged skin, and one colour
   // for the whole sclera as a pale band where a lid moved.
   cv::Vec3f Match(const cv::Vec3f& rendered, bool sclera, const cv::Vec3f& photo_sclera) const {
@@ -187,11 +178,6 @@ class EyeColourMatch {
   cv::Vec3f iris_photo_, iris_rendered_, iris_contrast_;  // median irises, and their spreads' ratio
   float bright_iris_ = -1;
 };
-
-// An eyeball pixel shows sclera where its cornea flag, interpolated across
-// the limbus (Renderer::CorneaAttribute), is under this; else the iris.
-constexpr float kLimbus = 0.5f;
-bool IsSclera(const cv::Mat& cornea, int x, int y) { return cornea.at<float>(y, x) < kLimbus; }
 
 // The eyelid warp over the eye region: every pixel's source in the photo
 // (itself, except where the re-posed model's facial skin fetches the photo
@@ -249,7 +235,7 @@ struct EyeballTransfer {
 // the white, which the rendering fills. Dark "sclera" that stays as deep
 // as it was is left alone: it is where the fit's iris was smaller than the
 // photo's, and an eye that barely moves must keep its iris. Returns the
-// clear sclera kept, which gives rendered sclera its colour (NearbySclera),
+// clear sclera kept, which gives rendered sclera its colour (NearbyColour),
 // not the lashes' shade.
 cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& target, const cv::Mat& cornea,
                                 const cv::Mat& target_depth, float margin_px) {
@@ -273,6 +259,20 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
     }
   }
   return clear_sclera;
+}
+
+// Caps `specular` at a luminance of `most` on the eyeballs of the eyes in
+// `found`, whose own glints replace the strong reflections.
+void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, const std::array<bool, 2>& found,
+                          float most) {
+  const int width = specular.cols;
+  for (int pixel : target.foreground) {
+    const int part = target.PartAt(pixel);
+    if (!IsEyeball(part) || !found[EyeOfPart(part)]) continue;
+    cv::Vec3f& value = specular.at<cv::Vec3f>(pixel / width, pixel % width);
+    const float luminance = Luminance(value);
+    if (luminance > most) value *= most / luminance;
+  }
 }
 
 // What --debug-dir shows of one redirection; `specular`: the reflections
@@ -303,49 +303,18 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
   return layers;
 }
 
-// `image` blurred by a Gaussian of `sigma`, computed only where it is needed
-// to be right within `area` (the new eyeballs, a small part of the region).
-cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) {
-  const int reach = static_cast<int>(std::ceil(3 * sigma));
-  const cv::Rect around =
-      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), image.size());
-  cv::Mat blurred = cv::Mat::zeros(image.size(), image.type());
-  cv::Mat part = blurred(around);
-  cv::GaussianBlur(image(around), part, cv::Size(0, 0), sigma);
-  return blurred;
-}
-
-// The photo's sclera colour near each pixel of `area`: the transferred sclera
-// pixels in `shown` blurred by `sigma` pixels and normalised by how many are
-// near, drawn toward `typical` where few are (and `typical` outside `area`).
-cv::Mat NearbySclera(const cv::Mat& transferred, const cv::Mat& shown, const cv::Rect& area, double sigma,
-                     const cv::Vec3f& typical) {
-  constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1
-  cv::Mat sum(transferred.size(), CV_32FC3, cv::Scalar::all(0)), density;
-  transferred.copyTo(sum, shown);
-  shown.convertTo(density, CV_32F, 1.0 / 255);
-  sum = BlurredWithin(sum, area, sigma);
-  density = BlurredWithin(density, area, sigma);
-  cv::Mat nearby(shown.size(), CV_32FC3, cv::Scalar(typical));
-  for (int y = area.y; y < area.y + area.height; ++y) {
-    for (int x = area.x; x < area.x + area.width; ++x) {
-      nearby.at<cv::Vec3f>(y, x) =
-          (sum.at<cv::Vec3f>(y, x) + kTypicalWeight * typical) / (density.at<float>(y, x) + kTypicalWeight);
-    }
-  }
-  return nearby;
-}
-
 // The new eyeballs over the warped photo: the photo's share (`transfer`)
 // feathered into the rendering matched to the photo's colours (sclera: as
 // the photo's sclera nearby, `photo_sclera`), reflections added (`gain` x
-// `specular`), and a seam blurred by `seam` pixels. The photo's share is
+// `specular`) and the photo's glints moved (`glints`, may be empty), and a
+// seam blurred by `seam` pixels. The photo's share is
 // blurred by `feather` within the eyeball mask (normalised), so that the
 // mask's own edge, where the photo continues outside, does not fade into the
 // rendering. `eyeball_layer` gets the eyeballs' colours before the seam.
 cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, const cv::Rect& eyeballs_area,
                           const EyeballTransfer& transfer, const cv::Mat& cornea, const cv::Mat& photo_sclera,
-                          double gain, const cv::Mat& specular, double feather, double seam, cv::Mat& eyeball_layer) {
+                          double gain, const cv::Mat& specular, const cv::Mat& glints, double feather, double seam,
+                          cv::Mat& eyeball_layer) {
   cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
   transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
@@ -367,6 +336,7 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
       cv::Vec3f colour = transfer.colours.Match(plain, sclera, nearby_sclera);
       colour = w * transfer.transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
       if (gain > 0) colour += static_cast<float>(gain) * specular.at<cv::Vec3f>(y, x);
+      if (!glints.empty()) colour += glints.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
       const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
       out.at<cv::Vec3f>(y, x) = a * colour + (1 - a) * warped.at<cv::Vec3f>(y, x);
@@ -551,12 +521,27 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   report.environment = environment;
   report.specular_gain = gain;
   if (gain > 0) Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
+  // The photo's own glints, moved as the corneas move, stand in for the
+  // environment's strong reflections on their eyes (its faint ones stay).
+  Glints glints;
+  cv::Mat moved_glints;
+  if (options_.move_glints && options_.transfer_eyeballs) {
+    const cv::Mat fitted_cornea = Renderer::InterpolateAttribute(fitted_buffers_, *model_, cornea_flags_, 1);
+    glints = FindGlints(photo, fitted_buffers_, fitted_cornea);
+    if (glints.found[0] || glints.found[1]) {
+      moved_glints = MovedGlints(glints, GlintShifts(fitted, posed_target, crop_camera), target_buffers_);
+      if (gain > 0) {
+        KeepFaintReflections(new_specular, target_buffers_, glints.found, static_cast<float>(kHighlight / gain));
+      }
+    }
+  }
 
   // The new eyeballs: the photo's own eye surface where the fitted eyeball
   // showed it, or showed its mirror image (away from old highlights), the
   // rendering elsewhere. Right up to the fitted lid margin: the lashes' shade
   // there is the photo's, which the rendering lacks.
   EyeballTransfer transfer(region.size());
+  const cv::Mat& surface = glints.surface.empty() ? photo : glints.surface;  // moved glints come on their own
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   // How deep inside its eye opening each pixel is (pixels from the lids), in
   // the photo's fit and in the re-posed model. Surface the photo showed at
@@ -596,7 +581,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (!found) continue;
     // The photo's surface without the faint reflections the chosen
     // environment explains there: the re-posed eye gets its own below.
-    cv::Vec3f value = Bilinear(photo, s[0], s[1]);
+    cv::Vec3f value = Bilinear(surface, s[0], s[1]);
     if (gain > 0) {
       const cv::Vec3f old_highlight = static_cast<float>(gain) * Bilinear(old_specular, s[0], s[1]);
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
@@ -615,20 +600,22 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =
       transfer.colours.sclera_known()
-          ? NearbySclera(transfer.transferred, clear_sclera, eyeballs_area,
+          ? NearbyColour(transfer.transferred, clear_sclera, eyeballs_area,
                          std::max(1.0, options_.sclera_colour_reach * interocular_px), transfer.colours.sclera_colour())
           : cv::Mat();
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);
   cv::Mat eyeball_layer;
   const cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, cornea, photo_sclera, gain,
-                                        new_specular, feather, seam, eyeball_layer);
+                                        new_specular, moved_glints, feather, seam, eyeball_layer);
   out.convertTo(image(region), CV_8UC3, 255.0);
   report.redirected = eyes;
   report.region = region;
 
   if (layers != nullptr) {
-    *layers = DebugLayers(warp, transfer, cornea, eyeball_layer, gain > 0 ? new_specular * gain : cv::Mat());
+    cv::Mat added = gain > 0 ? cv::Mat(new_specular * gain) : cv::Mat();
+    if (!moved_glints.empty()) added = added.empty() ? moved_glints : added + moved_glints;
+    *layers = DebugLayers(warp, transfer, cornea, eyeball_layer, added);
   }
   return report;
 }

@@ -22,6 +22,11 @@ struct RedirectOptions {
   // rendered eyeball everywhere, as in the paper.
   bool transfer_eyeballs = true;
   bool specular = true;             // add reflections of the chosen environment map
+  // Move the photo's own corneal glints as the re-posed corneas would move
+  // them (with the cornea's centre of curvature, about 0.58 of the iris's
+  // motion), instead of rendering the environment map's in their place.
+  // Only with transfer_eyeballs.
+  bool move_glints = true;
   int environment = -1;             // the environment map; -1 picks the one that explains the photo best
   // Sclera the photo showed within this fraction of the interocular distance
   // of its lids carries the lashes' shade: it is reused only as near to the

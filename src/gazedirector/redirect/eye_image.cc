@@ -1,0 +1,66 @@
+#include "gazedirector/redirect/eye_image.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/util/statistics.h"
+
+namespace gazedirector {
+
+cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
+  x = std::clamp(x, 0.0f, image.cols - 1.001f), y = std::clamp(y, 0.0f, image.rows - 1.001f);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const float fx = x - x0, fy = y - y0;
+  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
+  return (1 - fy) * ((1 - fx) * image.at<cv::Vec3f>(y0, x0) + fx * image.at<cv::Vec3f>(y0, x1)) +
+         fy * ((1 - fx) * image.at<cv::Vec3f>(y1, x0) + fx * image.at<cv::Vec3f>(y1, x1));
+}
+
+cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) {
+  const int reach = static_cast<int>(std::ceil(3 * sigma));
+  const cv::Rect around =
+      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), image.size());
+  cv::Mat blurred = cv::Mat::zeros(image.size(), image.type());
+  cv::Mat part = blurred(around);
+  cv::GaussianBlur(image(around), part, cv::Size(0, 0), sigma);
+  return blurred;
+}
+
+cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
+                     const cv::Vec3f& typical) {
+  constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1
+  cv::Mat sum(image.size(), CV_32FC3, cv::Scalar::all(0)), density;
+  image.copyTo(sum, shown);
+  shown.convertTo(density, CV_32F, 1.0 / 255);
+  sum = BlurredWithin(sum, area, sigma);
+  density = BlurredWithin(density, area, sigma);
+  cv::Mat nearby(shown.size(), CV_32FC3, cv::Scalar(typical));
+  for (int y = area.y; y < area.y + area.height; ++y) {
+    for (int x = area.x; x < area.x + area.width; ++x) {
+      nearby.at<cv::Vec3f>(y, x) =
+          (sum.at<cv::Vec3f>(y, x) + kTypicalWeight * typical) / (density.at<float>(y, x) + kTypicalWeight);
+    }
+  }
+  return nearby;
+}
+
+cv::Vec3f MedianColour(const cv::Mat& image, const cv::Mat& mask) {
+  std::array<std::vector<double>, 3> channels;
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      if (!mask.at<uchar>(y, x)) continue;
+      for (int c = 0; c < 3; ++c) channels[c].push_back(image.at<cv::Vec3f>(y, x)[c]);
+    }
+  }
+  cv::Vec3f colour(0, 0, 0);
+  for (int c = 0; c < 3; ++c) {
+    if (!channels[c].empty()) colour[c] = static_cast<float>(Median(std::move(channels[c])));
+  }
+  return colour;
+}
+
+}  // namespace gazedirector

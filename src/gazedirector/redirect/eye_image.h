@@ -1,0 +1,33 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace gazedirector {
+
+// Small image operations of the redirection, on CV_32FC3 BGR images in [0, 1].
+
+// Rec. 601 luma of a BGR colour.
+inline float Luminance(const cv::Vec3f& bgr) { return 0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]; }
+
+// `image` sampled bilinearly at (x, y), clamped to its edges.
+cv::Vec3f Bilinear(const cv::Mat& image, float x, float y);
+
+// An eyeball pixel shows sclera where its cornea flag, interpolated across
+// the limbus (Renderer::CorneaAttribute), is under this; else the iris.
+inline constexpr float kLimbus = 0.5f;
+inline bool IsSclera(const cv::Mat& cornea, int x, int y) { return cornea.at<float>(y, x) < kLimbus; }
+
+// `image` blurred by a Gaussian of `sigma`, computed only where it is needed
+// to be right within `area` (zero elsewhere).
+cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma);
+
+// The colour of `image`'s pixels in `shown` (8-bit mask) near each pixel of
+// `area`: they are blurred by `sigma` pixels and normalised by how many are
+// near, drawn toward `typical` where few are (and `typical` outside `area`).
+cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
+                     const cv::Vec3f& typical);
+
+// The median colour of `image` under `mask` (black where none).
+cv::Vec3f MedianColour(const cv::Mat& image, const cv::Mat& mask);
+
+}  // namespace gazedirector

@@ -1,0 +1,224 @@
+#include "gazedirector/redirect/glints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/model/eye_region_topology.h"
+#include "gazedirector/redirect/eye_image.h"
+#include "gazedirector/util/statistics.h"
+
+namespace gazedirector {
+namespace {
+
+// One fitted eye's pixels in the photo, within a box around them: its
+// eyeball, the part of it the fitted cornea covers (the iris), and their
+// luminance (sorted).
+struct EyePixels {
+  cv::Rect box;           // around the eyeball with a margin of half its height, in the photo
+  cv::Mat eyeball, iris;  // 8-bit masks of the box's size
+  std::vector<double> iris_luminance, sclera_luminance;
+};
+
+// Both fitted eyes' pixels (indexed by Eye) in `photo`.
+std::array<EyePixels, 2> PixelsOfEyes(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& cornea) {
+  const int width = photo.cols;
+  std::array<cv::Rect, 2> boxes;
+  for (int pixel : fitted.foreground) {
+    const int part = fitted.PartAt(pixel);
+    if (IsEyeball(part)) boxes[EyeOfPart(part)] |= cv::Rect(pixel % width, pixel / width, 1, 1);
+  }
+  std::array<EyePixels, 2> eyes;
+  for (int eye = 0; eye < 2; ++eye) {
+    const int margin = std::max(4, boxes[eye].height / 2);
+    const cv::Rect box = (boxes[eye] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) &
+                         cv::Rect(cv::Point(), photo.size());
+    eyes[eye].box = box;
+    eyes[eye].eyeball = cv::Mat(box.size(), CV_8UC1, cv::Scalar(0));
+    eyes[eye].iris = cv::Mat(box.size(), CV_8UC1, cv::Scalar(0));
+  }
+  for (int pixel : fitted.foreground) {
+    const int part = fitted.PartAt(pixel);
+    if (!IsEyeball(part)) continue;
+    EyePixels& eye = eyes[EyeOfPart(part)];
+    const int x = pixel % width, y = pixel / width;
+    const bool sclera = IsSclera(cornea, x, y);
+    eye.eyeball.at<uchar>(y - eye.box.y, x - eye.box.x) = 255;
+    if (!sclera) eye.iris.at<uchar>(y - eye.box.y, x - eye.box.x) = 255;
+    (sclera ? eye.sclera_luminance : eye.iris_luminance).push_back(Luminance(photo.at<cv::Vec3f>(y, x)));
+  }
+  for (EyePixels& eye : eyes) {
+    std::sort(eye.iris_luminance.begin(), eye.iris_luminance.end());
+    std::sort(eye.sclera_luminance.begin(), eye.sclera_luminance.end());
+  }
+  return eyes;
+}
+
+// The `q` quantile of sorted `values` (not empty).
+double SortedQuantile(const std::vector<double>& values, double q) {
+  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+}
+
+// The median of `values` under `mask` (CV_32FC1, 8-bit; -1 where none).
+double MedianUnder(const cv::Mat& values, const cv::Mat& mask) {
+  std::vector<double> under;
+  for (int y = 0; y < values.rows; ++y) {
+    for (int x = 0; x < values.cols; ++x) {
+      if (mask.at<uchar>(y, x)) under.push_back(values.at<float>(y, x));
+    }
+  }
+  return under.empty() ? -1 : Median(std::move(under));
+}
+
+// What tells one eye's glints from the rest of it (luminance).
+struct GlintLevels {
+  float brightest_sclera;  // a glint's peak outshines this (the sclera's 98th percentile)
+  float bright;            // its pixels outshine this (the sclera's 90th percentile, or halfway from iris to sclera)
+  float dark_surround;     // most pixels around it are darker: iris
+  float stands_out;        // its spot stands out of its surroundings (white top-hat) by this
+  float rim;               // its rim, by this
+  int wide;                // the top-hat's width in pixels: wider than the largest glint
+};
+
+GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
+  const float iris = static_cast<float>(SortedQuantile(eye.iris_luminance, 0.5));
+  const float sclera = static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.5));
+  const float contrast = std::max(0.2f, sclera - iris);
+  GlintLevels levels;
+  levels.brightest_sclera = static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.98));
+  levels.bright = std::max(static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.9)), iris + 0.5f * contrast);
+  levels.dark_surround = iris + 0.3f * contrast;
+  levels.stands_out = 0.3f * contrast;
+  levels.rim = 0.1f * contrast;
+  const double radius = std::sqrt(largest * static_cast<double>(eye.iris_luminance.size()) / M_PI);
+  levels.wide = 2 * static_cast<int>(2 * radius) + 3;
+  return levels;
+}
+
+// The cores of one eye's glints: spots on the fitted iris that stand out of
+// their surroundings, whose peak outshines all of the sclera and which are
+// mostly surrounded by dark iris (the sclera beside an iris the fit missed
+// by a little is not), each with the whole bright patch it lies in, on the
+// iris or just beside it.
+cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Mat& luminance, const cv::Mat& tophat) {
+  const cv::Mat around = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
+  cv::Mat near_iris, spot_labels, patch_labels;
+  cv::dilate(eye.iris, near_iris, around);
+  const cv::Mat spots = eye.iris & (luminance > levels.bright) & (tophat > levels.stands_out);
+  const int spot_count = cv::connectedComponents(spots, spot_labels, 8, CV_32S);
+  cv::connectedComponents(near_iris & eye.eyeball & (luminance > levels.bright), patch_labels, 8, CV_32S);
+  cv::Mat cores(luminance.size(), CV_8UC1, cv::Scalar(0));
+  for (int label = 1; label < spot_count; ++label) {
+    const cv::Mat spot = spot_labels == label;
+    double peak = 0;
+    cv::Point brightest;
+    cv::minMaxLoc(luminance, nullptr, &peak, nullptr, &brightest, spot);
+    if (peak <= levels.brightest_sclera) continue;
+    // The ring two to three pixels out, beyond the glint's own halo.
+    cv::Mat ring, halo;
+    cv::dilate(spot, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
+    cv::dilate(spot, halo, around);
+    const double surround = MedianUnder(luminance, ring & eye.eyeball & ~halo);
+    if (surround < 0 || surround > levels.dark_surround) continue;
+    cores |= patch_labels == patch_labels.at<int>(brightest);
+  }
+  return cores;
+}
+
+}  // namespace
+
+// The glints of the photo's eyes as fitted (`fitted`, with its cornea
+// attribute `cornea`): their cores (GlintCores) and their rims on the iris,
+// up to two pixels around where they stand out a little. What a glint adds
+// is the photo over the eye filled in beneath it, from the iris around it
+// (and, beside the iris, from the sclera around it): left where it was,
+// the two give back the photo.
+Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& cornea) {
+  constexpr std::size_t kEnough = 10;  // samples of iris and of sclera
+  constexpr double kLargest = 0.25;    // of the iris: larger bright patches are no glints (glasses, a window)
+  Glints glints;
+  cv::Mat filled;  // the glints and a pixel around them
+  const std::array<EyePixels, 2> eyes = PixelsOfEyes(photo, fitted, cornea);
+  for (int eye = 0; eye < 2; ++eye) {
+    const EyePixels& pixels = eyes[eye];
+    if (pixels.iris_luminance.size() < kEnough || pixels.sclera_luminance.size() < kEnough) continue;
+    const double iris_pixels = static_cast<double>(pixels.iris_luminance.size());
+    const GlintLevels levels = LevelsOfGlints(pixels, kLargest);
+    const cv::Mat eye_photo = photo(pixels.box);
+    cv::Mat eye_luminance, tophat;
+    cv::transform(eye_photo, eye_luminance, cv::Matx13f(0.114f, 0.587f, 0.299f));
+    cv::morphologyEx(eye_luminance, tophat, cv::MORPH_TOPHAT,
+                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(levels.wide, levels.wide)));
+    const cv::Mat cores = GlintCores(pixels, levels, eye_luminance, tophat);
+    const int core_pixels = cv::countNonZero(cores);
+    if (core_pixels == 0 || core_pixels > kLargest * iris_pixels) continue;
+    cv::Mat glint;
+    cv::dilate(cores, glint, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+    glint = cores | (glint & pixels.iris & (tophat > levels.rim));
+    // Beneath a glint and a pixel around it: the iris around it, or the
+    // sclera where it reaches beside the iris; never brighter than the photo
+    // (a glint only adds light: a dark limbus beside it stays).
+    cv::Mat fill;
+    cv::dilate(glint, fill, cv::Mat());
+    fill &= pixels.eyeball;
+    if (glints.surface.empty()) {
+      glints.surface = photo.clone();
+      filled = cv::Mat(photo.size(), CV_8UC1, cv::Scalar(0));
+    }
+    // Within reach of the glints only.
+    const double reach = std::max(1.5, 0.25 * std::sqrt(iris_pixels / M_PI));
+    const int margin = static_cast<int>(std::ceil(3 * reach)) + 1;
+    const cv::Rect area = cv::boundingRect(fill);
+    const cv::Rect near = (area + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) &
+                          cv::Rect(cv::Point(), fill.size());
+    const cv::Mat iris = pixels.iris(near), sclera = pixels.eyeball(near) & ~iris, near_photo = eye_photo(near);
+    const cv::Mat unfilled = ~fill(near);
+    const cv::Rect within = area - near.tl();
+    const cv::Mat near_iris = iris & unfilled, near_sclera = sclera & unfilled;
+    cv::Mat beneath = NearbyColour(near_photo, near_iris, within, reach, MedianColour(near_photo, near_iris));
+    NearbyColour(near_photo, near_sclera, within, reach, MedianColour(near_photo, near_sclera)).copyTo(beneath, sclera);
+    cv::min(beneath, near_photo, beneath);
+    const cv::Rect in_photo = near + pixels.box.tl();
+    cv::Mat near_surface = glints.surface(in_photo), near_filled = filled(in_photo);
+    beneath.copyTo(near_surface, fill(near));
+    near_filled |= fill(near);
+    glints.found[eye] = true;
+  }
+  if (!glints.surface.empty()) {
+    glints.light = cv::Mat(photo.size(), CV_32FC3, cv::Scalar::all(0));
+    cv::subtract(photo, glints.surface, glints.light, filled);
+  }
+  return glints;
+}
+
+std::array<cv::Vec2f, 2> GlintShifts(const Parameters& fitted, const Parameters& target, const Camera& camera) {
+  auto cornea_centre = [&camera](const Parameters& phi, int eye) {
+    const Eigen::Vector3d gaze = EyeRegionModel::GazeInHead(phi.gaze_pitch(), EyeRegionModel::EyeYaw(phi, eye));
+    const Eigen::Vector3d in_head = EyeRegionModel::EyeCentreInHead(phi, eye) + topology::kCorneaCentreMm * gaze;
+    return camera.Project(phi.rotation() * in_head + phi.translation());
+  };
+  std::array<cv::Vec2f, 2> shifts;
+  for (int eye = 0; eye < 2; ++eye) {
+    const Eigen::Vector2d shift = cornea_centre(target, eye) - cornea_centre(fitted, eye);
+    shifts[eye] = {static_cast<float>(shift.x()), static_cast<float>(shift.y())};
+  }
+  return shifts;
+}
+
+cv::Mat MovedGlints(const Glints& glints, const std::array<cv::Vec2f, 2>& shifts, const RenderBuffers& target) {
+  cv::Mat moved(glints.light.size(), CV_32FC3, cv::Scalar::all(0));
+  const int width = moved.cols;
+  for (int pixel : target.foreground) {
+    const int part = target.PartAt(pixel);
+    if (!IsEyeball(part) || !glints.found[EyeOfPart(part)]) continue;
+    const int x = pixel % width, y = pixel / width;
+    const cv::Vec2f& shift = shifts[EyeOfPart(part)];
+    moved.at<cv::Vec3f>(y, x) = Bilinear(glints.light, x - shift[0], y - shift[1]);
+  }
+  return moved;
+}
+
+}  // namespace gazedirector
