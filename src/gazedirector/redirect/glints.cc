@@ -76,6 +76,7 @@ double MedianUnder(const cv::Mat& values, const cv::Mat& mask) {
 // What tells one eye's glints from the rest of it (luminance).
 struct GlintLevels {
   float brightest_sclera;  // a glint's peak outshines this (the sclera's 98th percentile)
+  float sclera;            // the sclera's median
   float bright;            // its pixels outshine this (the sclera's 90th percentile, or halfway from iris to sclera)
   float dark_surround;     // most pixels around it are darker: iris
   float stands_out;        // its spot stands out of its surroundings (white top-hat) by this
@@ -89,6 +90,7 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
   const float contrast = std::max(0.2f, sclera - iris);
   GlintLevels levels;
   levels.brightest_sclera = static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.98));
+  levels.sclera = sclera;
   levels.bright = std::max(static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.9)), iris + 0.5f * contrast);
   levels.dark_surround = iris + 0.3f * contrast;
   levels.stands_out = 0.3f * contrast;
@@ -99,31 +101,38 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
 }
 
 // The cores of one eye's glints: spots on the fitted iris that stand out of
-// their surroundings, whose peak outshines all of the sclera and which are
-// mostly surrounded by dark iris (the sclera beside an iris the fit missed
-// by a little is not), each with the whole bright patch it lies in, on the
-// iris or just beside it.
+// their surroundings and are mostly surrounded by dark iris (the sclera
+// beside an iris the fit missed by a little is not). A spot whose peak
+// outshines all of the sclera brings the whole bright patch it lies in, on
+// the iris or just beside it; a small one (at most 3% of the iris, as
+// compressed video leaves a glint) is a glint if it is brighter than the
+// sclera's median and stands 0.15 above its surroundings.
 cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Mat& luminance, const cv::Mat& tophat) {
+  constexpr double kSmallShare = 0.03, kSmallContrast = 0.15;
   const cv::Mat around = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
   cv::Mat near_iris, spot_labels, patch_labels;
   cv::dilate(eye.iris, near_iris, around);
-  const cv::Mat spots = eye.iris & (luminance > levels.bright) & (tophat > levels.stands_out);
+  const cv::Mat spots = eye.iris & (tophat > std::max(static_cast<double>(levels.stands_out), kSmallContrast));
   const int spot_count = cv::connectedComponents(spots, spot_labels, 8, CV_32S);
   cv::connectedComponents(near_iris & eye.eyeball & (luminance > levels.bright), patch_labels, 8, CV_32S);
+  const int small = std::max(2, static_cast<int>(kSmallShare * static_cast<double>(eye.iris_luminance.size())));
   cv::Mat cores(luminance.size(), CV_8UC1, cv::Scalar(0));
   for (int label = 1; label < spot_count; ++label) {
     const cv::Mat spot = spot_labels == label;
     double peak = 0;
     cv::Point brightest;
     cv::minMaxLoc(luminance, nullptr, &peak, nullptr, &brightest, spot);
-    if (peak <= levels.brightest_sclera) continue;
     // The ring two to three pixels out, beyond the glint's own halo.
     cv::Mat ring, halo;
     cv::dilate(spot, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
     cv::dilate(spot, halo, around);
     const double surround = MedianUnder(luminance, ring & eye.eyeball & ~halo);
     if (surround < 0 || surround > levels.dark_surround) continue;
-    cores |= patch_labels == patch_labels.at<int>(brightest);
+    if (peak > levels.brightest_sclera && peak > levels.bright) {
+      cores |= patch_labels == patch_labels.at<int>(brightest);
+    } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast) {
+      cores |= spot;
+    }
   }
   return cores;
 }

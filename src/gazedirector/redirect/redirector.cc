@@ -261,14 +261,13 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
   return clear_sclera;
 }
 
-// Caps `specular` at a luminance of `most` on the eyeballs of the eyes in
-// `found`, whose own glints replace the strong reflections.
-void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, const std::array<bool, 2>& found,
-                          float most) {
+// Caps `specular` at a luminance of `most` on the eyeballs of `target`: the
+// photo's own glints, moved, stand in for the strong reflections (where it
+// shows none, rendered ones would add sparkle the photo did not have).
+void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, float most) {
   const int width = specular.cols;
   for (int pixel : target.foreground) {
-    const int part = target.PartAt(pixel);
-    if (!IsEyeball(part) || !found[EyeOfPart(part)]) continue;
+    if (!IsEyeball(target.PartAt(pixel))) continue;
     cv::Vec3f& value = specular.at<cv::Vec3f>(pixel / width, pixel % width);
     const float luminance = Luminance(value);
     if (luminance > most) value *= most / luminance;
@@ -522,7 +521,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   report.specular_gain = gain;
   if (gain > 0) Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
   // The photo's own glints, moved as the corneas move, stand in for the
-  // environment's strong reflections on their eyes (its faint ones stay).
+  // environment's strong reflections (its faint ones stay).
   Glints glints;
   cv::Mat moved_glints;
   if (options_.move_glints && options_.transfer_eyeballs) {
@@ -530,10 +529,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     glints = FindGlints(photo, fitted_buffers_, fitted_cornea);
     if (glints.found[0] || glints.found[1]) {
       moved_glints = MovedGlints(glints, GlintShifts(fitted, posed_target, crop_camera), target_buffers_);
-      if (gain > 0) {
-        KeepFaintReflections(new_specular, target_buffers_, glints.found, static_cast<float>(kHighlight / gain));
-      }
     }
+    if (gain > 0) KeepFaintReflections(new_specular, target_buffers_, static_cast<float>(kHighlight / gain));
   }
 
   // The new eyeballs: the photo's own eye surface where the fitted eyeball

@@ -144,9 +144,9 @@ Glint GlintOnIris(const cv::Mat& image, const Camera& camera, const Parameters& 
 
 // d30's corneal glints (a studio light's) stay when the eyes turn, and move
 // as the cornea's centre of curvature does (6.22 mm in front of the eyeball
-// centre), about 0.58 of the iris's motion (0.63 measured): carried with the
+// centre), about 0.58 of the iris's motion (0.62 measured): carried with the
 // photo's iris they would keep their place on it (1). The environment map's
-// reflections that replaced them until session 60 left none of these glint
+// reflections that replaced them until session 60 left at most one of these glint
 // pixels in any of the eight eyes.
 TEST(RedirectorTest, GlintsStayAndMoveWithTheCorneasCurvature) {
   const testing::FittedStill& p = Photo();
