@@ -24,8 +24,9 @@ struct Glints {
 // The glints of the photo's eyes (`photo`, CV_32FC3) as fitted: `fitted`
 // holds the fit rasterized over the photo, `cornea` its cornea attribute
 // (Renderer::CorneaAttribute interpolated over it). A glint is a spot on a
-// fitted iris brighter than all of its sclera and standing out of dark
-// iris around it, with the bright patch it lies in and its rim; patches
+// fitted iris standing out of dark iris around it: brighter than all of its
+// sclera (then with the bright patch it lies in), or small (at most 3% of
+// the iris) and brighter than the sclera's median; with its rim. Patches
 // over a quarter of the iris (glasses, a window) are not glints.
 Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& cornea);
 
