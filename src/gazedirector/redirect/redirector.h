@@ -24,7 +24,8 @@ struct RedirectOptions {
   bool specular = true;             // add reflections of the chosen environment map
   // Move the photo's own corneal glints as the re-posed corneas would move
   // them (with the cornea's centre of curvature, about 0.58 of the iris's
-  // motion), instead of rendering the environment map's in their place.
+  // motion), and keep the environment map's reflections faint (off: its
+  // strong reflections stand in for the glints, as before session 60).
   // Only with transfer_eyeballs.
   bool move_glints = true;
   int environment = -1;             // the environment map; -1 picks the one that explains the photo best
