@@ -48,18 +48,21 @@ cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect&
   return nearby;
 }
 
-cv::Vec3f MedianColour(const cv::Mat& image, const cv::Mat& mask) {
-  std::array<std::vector<double>, 3> channels;
-  for (int y = 0; y < image.rows; ++y) {
-    for (int x = 0; x < image.cols; ++x) {
-      if (!mask.at<uchar>(y, x)) continue;
-      for (int c = 0; c < 3; ++c) channels[c].push_back(image.at<cv::Vec3f>(y, x)[c]);
+double MedianUnder(const cv::Mat& values, const cv::Mat& mask, double none) {
+  std::vector<double> under;
+  for (int y = 0; y < values.rows; ++y) {
+    for (int x = 0; x < values.cols; ++x) {
+      if (mask.at<uchar>(y, x)) under.push_back(values.at<float>(y, x));
     }
   }
-  cv::Vec3f colour(0, 0, 0);
-  for (int c = 0; c < 3; ++c) {
-    if (!channels[c].empty()) colour[c] = static_cast<float>(Median(std::move(channels[c])));
-  }
+  return under.empty() ? none : Median(std::move(under));
+}
+
+cv::Vec3f MedianColour(const cv::Mat& image, const cv::Mat& mask) {
+  std::array<cv::Mat, 3> channels;
+  cv::split(image, channels.data());
+  cv::Vec3f colour;
+  for (int c = 0; c < 3; ++c) colour[c] = static_cast<float>(MedianUnder(channels[c], mask, 0));
   return colour;
 }
 

@@ -27,6 +27,9 @@ cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma);
 cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
                      const cv::Vec3f& typical);
 
+// The median of `values` (CV_32FC1) under `mask` (8-bit), `none` where the mask is empty.
+double MedianUnder(const cv::Mat& values, const cv::Mat& mask, double none);
+
 // The median colour of `image` under `mask` (black where none).
 cv::Vec3f MedianColour(const cv::Mat& image, const cv::Mat& mask);
 

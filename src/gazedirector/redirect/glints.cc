@@ -6,10 +6,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/fit/face_fit.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/redirect/eye_image.h"
-#include "gazedirector/util/statistics.h"
 
 namespace gazedirector {
 namespace {
@@ -60,17 +60,6 @@ std::array<EyePixels, 2> PixelsOfEyes(const cv::Mat& photo, const RenderBuffers&
 // The `q` quantile of sorted `values` (not empty).
 double SortedQuantile(const std::vector<double>& values, double q) {
   return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
-}
-
-// The median of `values` under `mask` (CV_32FC1, 8-bit; -1 where none).
-double MedianUnder(const cv::Mat& values, const cv::Mat& mask) {
-  std::vector<double> under;
-  for (int y = 0; y < values.rows; ++y) {
-    for (int x = 0; x < values.cols; ++x) {
-      if (mask.at<uchar>(y, x)) under.push_back(values.at<float>(y, x));
-    }
-  }
-  return under.empty() ? -1 : Median(std::move(under));
 }
 
 // What tells one eye's glints from the rest of it (luminance).
@@ -126,7 +115,7 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
     cv::Mat ring, halo;
     cv::dilate(spot, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
     cv::dilate(spot, halo, around);
-    const double surround = MedianUnder(luminance, ring & eye.eyeball & ~halo);
+    const double surround = MedianUnder(luminance, ring & eye.eyeball & ~halo, -1);
     if (surround < 0 || surround > levels.dark_surround) continue;
     if (peak > levels.brightest_sclera && peak > levels.bright) {
       cores |= patch_labels == patch_labels.at<int>(brightest);
@@ -204,14 +193,13 @@ Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::M
 }
 
 std::array<cv::Vec2f, 2> GlintShifts(const Parameters& fitted, const Parameters& target, const Camera& camera) {
-  auto cornea_centre = [&camera](const Parameters& phi, int eye) {
-    const Eigen::Vector3d gaze = EyeRegionModel::GazeInHead(phi.gaze_pitch(), EyeRegionModel::EyeYaw(phi, eye));
-    const Eigen::Vector3d in_head = EyeRegionModel::EyeCentreInHead(phi, eye) + topology::kCorneaCentreMm * gaze;
-    return camera.Project(phi.rotation() * in_head + phi.translation());
+  const std::array<EyeGaze, 2> from = EyeGazes(fitted), to = EyeGazes(target);
+  auto cornea_centre = [&camera](const EyeGaze& eye) {
+    return camera.Project(eye.centre + topology::kCorneaCentreMm * eye.gaze);
   };
   std::array<cv::Vec2f, 2> shifts;
   for (int eye = 0; eye < 2; ++eye) {
-    const Eigen::Vector2d shift = cornea_centre(target, eye) - cornea_centre(fitted, eye);
+    const Eigen::Vector2d shift = cornea_centre(to[eye]) - cornea_centre(from[eye]);
     shifts[eye] = {static_cast<float>(shift.x()), static_cast<float>(shift.y())};
   }
   return shifts;

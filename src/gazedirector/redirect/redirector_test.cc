@@ -122,9 +122,14 @@ struct Glint {
   int pixels = 0;
   cv::Point2d centroid;
 };
-Glint GlintOnIris(const cv::Mat& image, const Camera& camera, const Parameters& phi, int eye) {
+// The centre of `eye`'s iris (its limbus ring's) that `phi` puts in the camera frame.
+Eigen::Vector3d IrisCentre(const Parameters& phi, int eye) {
   const EyeGaze gaze = EyeGazes(phi)[eye];
-  const Eigen::Vector3d centre = gaze.centre + topology::kLimbusDepthMm * gaze.gaze;
+  return gaze.centre + topology::kLimbusDepthMm * gaze.gaze;
+}
+
+Glint GlintOnIris(const cv::Mat& image, const Camera& camera, const Parameters& phi, int eye) {
+  const Eigen::Vector3d centre = IrisCentre(phi, eye);
   const Eigen::Vector2d at = camera.Project(centre);
   const double radius = camera.fx * topology::kLimbusRadiusMm * phi.iris_size() / centre.z();
   cv::Mat grey;
@@ -163,9 +168,8 @@ TEST(RedirectorTest, GlintsStayAndMoveWithTheCorneasCurvature) {
       const Glint after = GlintOnIris(moved.image, p.camera, target, eye);
       ASSERT_GE(before.pixels, 4);
       // On the iris, relative to its centre, the glint moves back by 1 - 0.58 of the iris's motion.
-      const std::array<EyeGaze, 2> from = EyeGazes(p.fit.phi), to = EyeGazes(target);
-      const Eigen::Vector2d iris = p.camera.Project(to[eye].centre + topology::kLimbusDepthMm * to[eye].gaze) -
-                                   p.camera.Project(from[eye].centre + topology::kLimbusDepthMm * from[eye].gaze);
+      const Eigen::Vector2d iris =
+          p.camera.Project(IrisCentre(target, eye)) - p.camera.Project(IrisCentre(p.fit.phi, eye));
       const cv::Point2d glint_motion = after.centroid - before.centroid;
       const double along = (glint_motion.x * iris.x() + glint_motion.y * iris.y()) / iris.squaredNorm();
       std::printf("pitch %+.0f yaw %+.0f, eye %d: glint pixels %d -> %d, iris moved %.1f px, the glint %.2f of it\n",
