@@ -394,6 +394,21 @@ std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera&
   return open;
 }
 
+std::array<double, 2> Redirector::ShownOfLevelEyes(const Parameters& fitted, const Camera& crop) {
+  Parameters level = fitted;
+  level.gaze_pitch() = 0;
+  level.eyelid_pitch() = 0;
+  level.eyelid_closure() = 0;
+  target_renderer_.set_eyes(true, true);
+  target_renderer_.Render(level, crop, target_buffers_);
+  std::array<double, 2> shown = {0, 0};
+  for (int eye = 0; eye < 2; ++eye) {
+    const int rest = CountPart(target_buffers_, EyeballPart(eye));
+    if (rest > 0) shown[eye] = static_cast<double>(CountPart(fitted_buffers_, EyeballPart(eye))) / rest;
+  }
+  return shown;
+}
+
 void Redirector::Reflections(const Renderer& renderer, const RenderBuffers& buffers, const Camera& camera,
                              const EnvironmentMap& map, cv::Mat& specular) const {
   specular.create(buffers.height(), buffers.width(), CV_32FC3);
@@ -483,6 +498,9 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
   const std::array<bool, 2> eyes = OpenEyes(fitted, crop_camera, report.note);
   if (!eyes[0] && !eyes[1]) return report;
+  const std::array<double, 2> shown = options_.transfer_eyeballs && options_.min_transfer_fraction > 0
+                                          ? ShownOfLevelEyes(fitted, crop_camera)
+                                          : std::array<double, 2>{1, 1};
   if (!eyes[0] || !eyes[1]) {  // only the open eye's parts from here on
     fitted_renderer_.set_eyes(eyes[0], eyes[1]);
     fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
@@ -557,6 +575,11 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     const cv::Vec3f colour = RenderedBgr(target_buffers_, i);
     transfer.rendered.at<cv::Vec3f>(y, x) = colour;
     if (!options_.transfer_eyeballs) continue;
+    // An eye under lowered lids shows a slit of lashes: it gives the new
+    // lid margins their shade but neither the eyeball deeper in nor the
+    // rendering's colours.
+    const bool slit = shown[EyeOfPart(part)] < options_.min_transfer_fraction;
+    if (slit && target_depth.at<float>(y, x) > margin_px) continue;
     // The photo where this surface point was, else where its mirror images were.
     // (The iris is dark itself: there the lashes' shade does no harm.)
     const bool sclera = IsSclera(cornea, x, y);
@@ -590,7 +613,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     }
     transfer.transfer_mask.data[pixel] = 255;
-    transfer.colours.Add(value, colour, sclera);
+    if (!slit) transfer.colours.Add(value, colour, sclera);
   }
   transfer.colours.Finish();
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);

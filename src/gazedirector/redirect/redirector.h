@@ -44,6 +44,13 @@ struct RedirectOptions {
   // than this fraction of its eye opening when open.
   double min_open_fraction = 0.15;
   double max_closure_deg = 22;      // or its lid closure exceeds this
+  // An eye that shows less than this fraction of what it would show looking
+  // level with its lids at rest (looking down under lowered lids: 0.3-0.6
+  // on d3.mp4, open eyes mostly 0.7 and more) shows its iris and sclera only as a
+  // slit of lashes: deeper than the margin band inside the new lids it gets
+  // the rendered eyeball, not the slit's dark smear, and it does not colour
+  // the rendering. 0: the photo's eye is reused however little shows.
+  double min_transfer_fraction = 0.66;
 };
 
 // What one redirection did.
@@ -85,6 +92,9 @@ class Redirector {
   // The eyes of `fitted` (rendered in fitted_buffers_ over `crop`) open
   // enough to redirect; the others are named in `note`.
   std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note);
+  // How much of each eyeball the fit (in fitted_buffers_) shows, as a
+  // fraction of what the same eyes show looking level with their lids at rest.
+  std::array<double, 2> ShownOfLevelEyes(const Parameters& fitted, const Camera& crop);
   // The environment map (`fixed`, or the best of all when -1) and its gain
   // whose reflections on the fitted eyeballs best explain the bright
   // residuals of the photo; `specular` gets those reflections (when gain > 0).

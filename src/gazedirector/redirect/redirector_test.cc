@@ -9,6 +9,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "gazedirector/fit/face_fit.h"
+#include "gazedirector/io/video_reader.h"
+#include "gazedirector/video/gaze_tracker.h"
 #include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/util/statistics.h"
@@ -358,6 +360,83 @@ TEST(RedirectorTest, TheEyelidWarpFollowsTheGaze) {
   }
   ASSERT_GT(count, 20);
   EXPECT_LT(flow_y / count, -0.3);
+}
+
+}  // namespace
+}  // namespace gazedirector
+
+namespace gazedirector {
+namespace {
+
+// Frames `indices` (ascending) of d3.mp4 with its face tracked from the
+// start, as `redirect` fits a video: the iris and sclera colours settle on
+// the open eyes of its first frames.
+struct FittedFrame {
+  cv::Mat image;
+  Camera camera;
+  FitResult fit;
+};
+std::vector<FittedFrame> TrackD3Frames(const std::vector<int>& indices) {
+  GazeTracker tracker(SharedModel(), testing::SharedLandmarkDetector(), testing::SharedMeanFace());
+  VideoReader reader(testing::DataPath("video/d3.mp4"));
+  const Camera camera = Camera::Default(reader.info().width, reader.info().height);
+  std::vector<FittedFrame> frames;
+  cv::Mat image;
+  for (int i = 0; i <= indices.back() && reader.Read(image); ++i) {
+    const std::vector<FaceFit> fits = tracker.ProcessFrame(image, reader.timestamp_s(), camera);
+    if (std::find(indices.begin(), indices.end(), i) == indices.end()) continue;
+    EXPECT_EQ(fits.size(), 1u) << "frame " << i;
+    frames.push_back({image.clone(), camera, fits.empty() ? FitResult{} : fits[0].fit});
+  }
+  EXPECT_EQ(frames.size(), indices.size());
+  return frames;
+}
+
+// Redirects `frame` to the camera with `options`.
+Redirected RedirectToCamera(const FittedFrame& frame, const RedirectOptions& options) {
+  Redirector redirector(SharedModel(), options);
+  Redirected redirected{frame.image.clone(), {}, {}};
+  redirected.report = redirector.Redirect(redirected.image, frame.camera, frame.fit.phi,
+                                          Retarget(frame.fit.phi, GazeTarget::Camera()), &redirected.layers);
+  return redirected;
+}
+
+// d3.mp4 frame 100 looks down under lowered lids (tracked, it shows 0.5 of
+// what its eyes show looking level): the photo shows a slit of lashes. Redirected to the camera, the opened eyes used to be that slit's
+// dark smear, "sclera" as dark as the iris; they get the rendered eyeball
+// now (deeper than the margin band), white sclera around a darker iris. An
+// open eye (frame 180) is redirected as before.
+TEST(RedirectorTest, EyesLookingDownUnderLoweredLidsGetARenderedEyeball) {
+  const std::vector<FittedFrame> frames = TrackD3Frames({100, 180});
+  ASSERT_EQ(frames.size(), 2u);
+  const FittedFrame& down = frames[0];
+  ASSERT_TRUE(down.fit.good) << down.fit.note;
+  RedirectOptions reuse_any;
+  reuse_any.min_transfer_fraction = 0;
+  const Redirected before = RedirectToCamera(down, reuse_any);
+  const Redirected now = RedirectToCamera(down, {});
+  ASSERT_TRUE(now.report.redirected[0] && now.report.redirected[1]) << now.report.note;
+  auto tones = [](const Redirected& r) {
+    cv::Mat sclera, iris;
+    cv::erode(r.layers.sclera_mask, sclera, cv::Mat());
+    cv::erode(r.layers.eyeball_mask & ~r.layers.sclera_mask, iris, cv::Mat());
+    EXPECT_GT(cv::countNonZero(sclera), 20);
+    EXPECT_GT(cv::countNonZero(iris), 20);
+    const cv::Mat region = r.image(r.report.region);
+    return std::pair(Median(GreyLevels(region, sclera)), Median(GreyLevels(region, iris)));
+  };
+  const auto [sclera_before, iris_before] = tones(before);
+  const auto [sclera_now, iris_now] = tones(now);
+  std::printf("frame 100: new sclera %.0f, iris %.0f grey levels (from the slit: %.0f, %.0f)\n", sclera_now, iris_now,
+              sclera_before, iris_before);
+  EXPECT_GT(sclera_now, 1.5 * sclera_before);
+  EXPECT_GT(sclera_now, 1.5 * iris_now);
+
+  const FittedFrame& open = frames[1];
+  ASSERT_TRUE(open.fit.good) << open.fit.note;
+  const Redirected open_before = RedirectToCamera(open, reuse_any);
+  const Redirected open_now = RedirectToCamera(open, {});
+  EXPECT_EQ(cv::norm(open_now.image, open_before.image, cv::NORM_INF), 0.0);
 }
 
 }  // namespace
