@@ -6,10 +6,10 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/redirect/eye_colour_match.h"
 #include "gazedirector/redirect/eye_image.h"
 #include "gazedirector/redirect/glints.h"
 #include "gazedirector/render/model_bounds.h"
-#include "gazedirector/util/statistics.h"
 
 namespace gazedirector {
 namespace {
@@ -75,109 +75,6 @@ cv::Vec3f RenderedBgr(const RenderBuffers& buffers, std::size_t i) {
 cv::Point NearestPixel(const cv::Vec2f& position) {
   return {static_cast<int>(std::lround(position[0])), static_cast<int>(std::lround(position[1]))};
 }
-
-// The rendering's colours matched to the photo's eye, from samples where
-// both are known, separately for the iris (the cornea, which shows it) and
-// the sclera: medians, which the few skin pixels a slightly wide fit lets in
-// cannot tint. The rendered iris takes the photo iris's median and spread: a
-// dark, even iris must not show the iris texture's brighter ring.
-class EyeColourMatch {
- public:
-  // The photo's colour `photo` (BGR) where the rendering shows `rendered`.
-  void Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
-    if (!sclera) {
-      for (int c = 0; c < 3; ++c) {
-        iris_[c].push_back(photo[c]);
-        iris_[3 + c].push_back(rendered[c]);
-      }
-      return;
-    }
-    for (int c = 0; c < 3; ++c) sclera_[c].push_back(photo[c]);
-    sclera_[3].push_back(Luminance(rendered));
-    sclera_[4].push_back(Luminance(photo));
-  }
-
-  // After the last Add.
-  void Finish() {
-    sclera_known_ = sclera_[3].size() >= kEnough;
-    float photo_sclera = -1;  // the photo sclera's luminance
-    if (sclera_known_) {
-      for (int c = 0; c < 3; ++c) sclera_colour_[c] = static_cast<float>(Median(sclera_[c]));
-      sclera_luminance_ = std::max(1e-3f, static_cast<float>(Median(sclera_[3])));
-      photo_sclera = static_cast<float>(Median(sclera_[4]));
-      dark_sclera_ = 0.7f * photo_sclera;
-    }
-    FinishIris(photo_sclera);
-  }
-
-  // Photo sclera darker than this is lashes, the iris's edge where the fit
-  // missed it by a pixel, or shadow under a lid (-1 when unknown).
-  float dark_sclera() const { return dark_sclera_; }
-  // Photo "iris" brighter than this is sclera beside an iris the fit
-  // placed off the photo's: moved with the iris, it would draw a white
-  // crescent inside the new one (-1 when unknown).
-  float bright_iris() const { return bright_iris_; }
-
-  // The photo's typical sclera colour (meaningful once sclera_known()).
-  bool sclera_known() const { return sclera_known_; }
-  const cv::Vec3f& sclera_colour() const { return sclera_colour_; }
-
-  // A rendered colour as the photo's eye would show it. Sclera takes the
-  // colour of the photo's own sclera nearby (`photo_sclera`, see
-  // NearbyColour), shaded as rendered: the texture's reddish periphery, which
-  // a large turn brings into view, would read as smudged skin, and one colour
-  // for the whole sclera as a pale band where a lid moved.
-  cv::Vec3f Match(const cv::Vec3f& rendered, bool sclera, const cv::Vec3f& photo_sclera) const {
-    if (sclera && sclera_known_) {
-      // Half the rendering's contrast: its sclera darkens toward the
-      // periphery, which real eyes, wet and lit from all around, hardly do.
-      // Never brighter than the photo's sclera there, which has the real light.
-      return photo_sclera * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.0f);
-    }
-    if (!sclera && iris_matched_) {
-      cv::Vec3f out;
-      for (int c = 0; c < 3; ++c) {
-        out[c] = std::max(0.0f, iris_photo_[c] + iris_contrast_[c] * (rendered[c] - iris_rendered_[c]));
-      }
-      return out;
-    }
-    return rendered;  // too few samples to match
-  }
-
- private:
-  // The bright-iris threshold (none where the sclera is unknown: -1), and
-  // the photo iris's median and spread, which the rendered iris takes.
-  void FinishIris(float photo_sclera) {
-    if (iris_[0].size() < kEnough) return;
-    std::vector<double> luminance(iris_[0].size());
-    for (std::size_t i = 0; i < luminance.size(); ++i) {
-      luminance[i] = Luminance(cv::Vec3f(iris_[0][i], iris_[1][i], iris_[2][i]));
-    }
-    const float iris = static_cast<float>(Median(std::move(luminance)));
-    if (photo_sclera > iris) bright_iris_ = iris + kBrightIris * (photo_sclera - iris);
-    iris_matched_ = true;
-    for (int c = 0; c < 3; ++c) {
-      const std::array<double, 3> photo = Quartiles(std::move(iris_[c]));
-      const std::array<double, 3> rendered = Quartiles(std::move(iris_[3 + c]));
-      iris_photo_[c] = static_cast<float>(photo[1]);
-      iris_rendered_[c] = static_cast<float>(rendered[1]);
-      iris_contrast_[c] =
-          static_cast<float>(std::clamp((photo[2] - photo[0]) / std::max(rendered[2] - rendered[0], 1e-3), 0.1, 1.5));
-    }
-  }
-
-  static constexpr std::size_t kEnough = 10;  // samples
-  std::array<std::vector<double>, 5> sclera_;  // the photo's sclera (B, G, R), the rendering's luminance there, the photo's
-  bool sclera_known_ = false;
-  cv::Vec3f sclera_colour_;
-  float sclera_luminance_ = 1;
-  float dark_sclera_ = -1;
-  static constexpr float kBrightIris = 0.6f;  // of the way from the photo's iris to its sclera
-  std::array<std::vector<double>, 6> iris_;  // the photo's iris (B, G, R) and the rendering's there
-  bool iris_matched_ = false;
-  cv::Vec3f iris_photo_, iris_rendered_, iris_contrast_;  // median irises, and their spreads' ratio
-  float bright_iris_ = -1;
-};
 
 // The eyelid warp over the eye region: every pixel's source in the photo
 // (itself, except where the re-posed model's facial skin fetches the photo

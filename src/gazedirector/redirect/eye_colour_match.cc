@@ -1,0 +1,74 @@
+#include "gazedirector/redirect/eye_colour_match.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "gazedirector/redirect/eye_image.h"
+#include "gazedirector/util/statistics.h"
+
+namespace gazedirector {
+
+void EyeColourMatch::Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
+  if (!sclera) {
+    for (int c = 0; c < 3; ++c) {
+      iris_[c].push_back(photo[c]);
+      iris_[3 + c].push_back(rendered[c]);
+    }
+    return;
+  }
+  for (int c = 0; c < 3; ++c) sclera_[c].push_back(photo[c]);
+  sclera_[3].push_back(Luminance(rendered));
+  sclera_[4].push_back(Luminance(photo));
+}
+
+void EyeColourMatch::Finish() {
+  sclera_known_ = sclera_[3].size() >= kEnough;
+  float photo_sclera = -1;  // the photo sclera's luminance
+  if (sclera_known_) {
+    for (int c = 0; c < 3; ++c) sclera_colour_[c] = static_cast<float>(Median(std::move(sclera_[c])));
+    sclera_luminance_ = std::max(1e-3f, static_cast<float>(Median(std::move(sclera_[3]))));
+    photo_sclera = static_cast<float>(Median(std::move(sclera_[4])));
+    dark_sclera_ = 0.7f * photo_sclera;
+  }
+  FinishIris(photo_sclera);
+  for (auto& samples : sclera_) samples = {};
+  for (auto& samples : iris_) samples = {};
+}
+
+cv::Vec3f EyeColourMatch::Match(const cv::Vec3f& rendered, bool sclera, const cv::Vec3f& photo_sclera) const {
+  if (sclera && sclera_known_) {
+    // Half the rendering's contrast: its sclera darkens toward the
+    // periphery, which real eyes, wet and lit from all around, hardly do.
+    // Never brighter than the photo's sclera there, which has the real light.
+    return photo_sclera * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.0f);
+  }
+  if (!sclera && iris_matched_) {
+    cv::Vec3f out;
+    for (int c = 0; c < 3; ++c) {
+      out[c] = std::max(0.0f, iris_photo_[c] + iris_contrast_[c] * (rendered[c] - iris_rendered_[c]));
+    }
+    return out;
+  }
+  return rendered;  // too few samples to match
+}
+
+void EyeColourMatch::FinishIris(float photo_sclera) {
+  if (iris_[0].size() < kEnough) return;
+  std::vector<double> luminance(iris_[0].size());
+  for (std::size_t i = 0; i < luminance.size(); ++i) {
+    luminance[i] = Luminance(cv::Vec3f(iris_[0][i], iris_[1][i], iris_[2][i]));
+  }
+  const float iris = static_cast<float>(Median(std::move(luminance)));
+  if (photo_sclera > iris) bright_iris_ = iris + kBrightIris * (photo_sclera - iris);
+  iris_matched_ = true;
+  for (int c = 0; c < 3; ++c) {
+    const std::array<double, 3> photo = Quartiles(std::move(iris_[c]));
+    const std::array<double, 3> rendered = Quartiles(std::move(iris_[3 + c]));
+    iris_photo_[c] = static_cast<float>(photo[1]);
+    iris_rendered_[c] = static_cast<float>(rendered[1]);
+    iris_contrast_[c] =
+        static_cast<float>(std::clamp((photo[2] - photo[0]) / std::max(rendered[2] - rendered[0], 1e-3), 0.1, 1.5));
+  }
+}
+
+}  // namespace gazedirector

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace gazedirector {
+
+// The rendering's colours matched to the photo's eye, from samples where
+// both are known, separately for the iris (the cornea, which shows it) and
+// the sclera: medians, which the few skin pixels a slightly wide fit lets in
+// cannot tint. The rendered iris takes the photo iris's median and spread: a
+// dark, even iris must not show the iris texture's brighter ring.
+class EyeColourMatch {
+ public:
+  // The photo's colour `photo` (BGR) where the rendering shows `rendered`.
+  void Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera);
+  // After the last Add: computes the match and lets the samples go.
+  void Finish();
+
+  // Photo sclera darker than this is lashes, the iris's edge where the fit
+  // missed it by a pixel, or shadow under a lid (-1 when unknown).
+  float dark_sclera() const { return dark_sclera_; }
+  // Photo "iris" brighter than this is sclera beside an iris the fit
+  // placed off the photo's: moved with the iris, it would draw a white
+  // crescent inside the new one (-1 when unknown).
+  float bright_iris() const { return bright_iris_; }
+
+  // The photo's typical sclera colour (meaningful once sclera_known()).
+  bool sclera_known() const { return sclera_known_; }
+  const cv::Vec3f& sclera_colour() const { return sclera_colour_; }
+
+  // A rendered colour as the photo's eye would show it. Sclera takes the
+  // colour of the photo's own sclera nearby (`photo_sclera`, see
+  // NearbyColour), shaded as rendered: the texture's reddish periphery, which
+  // a large turn brings into view, would read as smudged skin, and one colour
+  // for the whole sclera as a pale band where a lid moved.
+  cv::Vec3f Match(const cv::Vec3f& rendered, bool sclera, const cv::Vec3f& photo_sclera) const;
+
+ private:
+  // The bright-iris threshold (none where the sclera is unknown: -1), and
+  // the photo iris's median and spread, which the rendered iris takes.
+  void FinishIris(float photo_sclera);
+
+  static constexpr std::size_t kEnough = 10;  // samples
+  std::array<std::vector<double>, 5> sclera_;  // the photo's sclera (B, G, R), the rendering's luminance there, the photo's
+  bool sclera_known_ = false;
+  cv::Vec3f sclera_colour_;
+  float sclera_luminance_ = 1;
+  float dark_sclera_ = -1;
+  static constexpr float kBrightIris = 0.6f;  // of the way from the photo's iris to its sclera
+  std::array<std::vector<double>, 6> iris_;  // the photo's iris (B, G, R) and the rendering's there
+  bool iris_matched_ = false;
+  cv::Vec3f iris_photo_, iris_rendered_, iris_contrast_;  // median irises, and their spreads' ratio
+  float bright_iris_ = -1;
+};
+
+}  // namespace gazedirector
