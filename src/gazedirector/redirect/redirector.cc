@@ -114,7 +114,7 @@ struct EyeballTransfer {
   cv::Mat rendered, transferred;  // CV_32FC3
   cv::Mat transfer_mask;          // 8-bit
   cv::Mat from_depth;             // sclera: how deep in the fitted opening its source was
-  cv::Mat moved_by;               // iris: how far its source was, in pixels
+  cv::Mat moved_by;               // how far its source was, in pixels
   EyeColourMatch colours;
 
   explicit EyeballTransfer(cv::Size size)
@@ -129,9 +129,10 @@ struct EyeballTransfer {
 // beside the photo's covered: the rendering fills it (where the eye barely
 // moves it stays as it was). Dark photo sclera belongs right at the new
 // lids; dragged deeper into the new opening it would draw streaks across
-// the white, which the rendering fills. Dark "sclera" that stays as deep
-// as it was is left alone: it is where the fit's iris was smaller than the
-// photo's, and an eye that barely moves must keep its iris. Returns the
+// the white, which the rendering fills. So is dark "sclera" from deep in the
+// fitted opening that moves: the photo's iris where the fit's sat beside it
+// or was smaller, which would draw a dark patch beside the new iris. Where
+// the eye barely moves it is left alone: such an eye must keep its iris. Returns the
 // clear sclera kept, which gives rendered sclera its colour (NearbyColour),
 // not the lashes' shade.
 cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& target, const cv::Mat& cornea,
@@ -153,6 +154,8 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
     } else if (target_depth.at<float>(y, x) > margin_px &&
                target_depth.at<float>(y, x) > transfer.from_depth.at<float>(y, x) + margin_px) {
       transfer.transfer_mask.data[pixel] = 0;
+    } else if (transfer.from_depth.at<float>(y, x) > margin_px && transfer.moved_by.at<float>(y, x) > margin_px) {
+      transfer.transfer_mask.data[pixel] = 0;  // the photo's iris, left in the fitted sclera, would travel with it
     }
   }
   return clear_sclera;
@@ -504,11 +507,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
     }
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
-    if (sclera) {
-      transfer.from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
-    } else {
-      transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
-    }
+    if (sclera) transfer.from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
+    transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     transfer.transfer_mask.data[pixel] = 255;
     if (!slit) transfer.colours.Add(value, colour, sclera);
   }

@@ -331,6 +331,37 @@ TEST(RedirectorTest, AnIrisFittedBesideThePhotosCarriesNoScleraIntoTheNewOne) {
   EXPECT_LT(bright / levels.size(), 0.04);
 }
 
+// The converse: the photo's iris that a fit beside it left in its sclera
+// used to travel with that sclera, a dark patch beside the new iris (d14.mp4
+// frames 433-437, d3.mp4 frame 170). Dark photo sclera from deep in the fitted
+// opening (not the lashes' shade at its margin) that the turn moves is
+// rendered as sclera now. d30's fit turned 6 degrees either way off the
+// photo's irises, then redirected 12 degrees back past them.
+TEST(RedirectorTest, AnIrisFittedBesideThePhotosLeavesNoDarkPatchInTheNewSclera) {
+  const testing::FittedStill& p = Photo();
+  Redirector redirector(SharedModel());
+  const Redirected as_fitted = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
+  const RedirectLayers& fitted = as_fitted.layers;
+  const double iris_level =
+      Median(GreyLevels(p.image(as_fitted.report.region), fitted.eyeball_mask & ~fitted.sclera_mask));
+  const double sclera_level = Median(GreyLevels(p.image(as_fitted.report.region), fitted.sclera_mask));
+  for (double off : {-6.0, 6.0}) {
+    Parameters beside = p.fit.phi;
+    beside.gaze_yaw() += off;
+    const Redirected result = RedirectPhoto(redirector, beside, Retarget(beside, GazeTarget::Offset(0, -2 * off)));
+    ASSERT_TRUE(result.report.redirected[0] && result.report.redirected[1]) << result.report.note;
+    cv::Mat new_sclera;
+    cv::erode(result.layers.sclera_mask, new_sclera, cv::Mat());
+    const std::vector<double> levels = GreyLevels(result.image(result.report.region), new_sclera);
+    ASSERT_GT(levels.size(), 50u);
+    const double halfway = 0.5 * (iris_level + sclera_level);
+    const double dark = std::count_if(levels.begin(), levels.end(), [&](double v) { return v < halfway; });
+    std::printf("fit %+.0f deg beside: %.1f%% of the new sclera darker than halfway to the iris\n", off,
+                100 * dark / levels.size());
+    EXPECT_LT(dark / levels.size(), 0.05) << off;  // 10.5% / 14.8% before session 61, 1.0% / 2.5% now
+  }
+}
+
 TEST(RedirectorTest, ClosedEyesAreLeftUntouchedAndReported) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
