@@ -97,7 +97,7 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
 // compressed video leaves a glint) is a glint if it is brighter than the
 // sclera's median and stands 0.15 above its surroundings.
 cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Mat& luminance, const cv::Mat& tophat) {
-  constexpr double kSmallShare = 0.03, kSmallContrast = 0.15;
+  constexpr double kSmallShare = 0.03, kSmallContrast = 0.15, kLargeShare = 0.15;
   const cv::Mat around = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
   cv::Mat near_iris, spot_labels, patch_labels;
   cv::dilate(eye.iris, near_iris, around);
@@ -106,19 +106,32 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
   cv::connectedComponents(near_iris & eye.eyeball & (luminance > levels.bright), patch_labels, 8, CV_32S);
   const int small = std::max(2, static_cast<int>(kSmallShare * static_cast<double>(eye.iris_luminance.size())));
   cv::Mat cores(luminance.size(), CV_8UC1, cv::Scalar(0));
+  // The median luminance of the ring two to three pixels out of `area`,
+  // beyond a glint's own halo (-1 where none of it is on the eyeball).
+  auto surround_of = [&](const cv::Mat& area) {
+    cv::Mat ring, halo;
+    cv::dilate(area, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
+    cv::dilate(area, halo, around);
+    return MedianUnder(luminance, ring & eye.eyeball & ~halo, -1);
+  };
   for (int label = 1; label < spot_count; ++label) {
     const cv::Mat spot = spot_labels == label;
     double peak = 0;
     cv::Point brightest;
     cv::minMaxLoc(luminance, nullptr, &peak, nullptr, &brightest, spot);
-    // The ring two to three pixels out, beyond the glint's own halo.
-    cv::Mat ring, halo;
-    cv::dilate(spot, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
-    cv::dilate(spot, halo, around);
-    const double surround = MedianUnder(luminance, ring & eye.eyeball & ~halo, -1);
+    const double surround = surround_of(spot);
     if (surround < 0 || surround > levels.dark_surround) continue;
     if (peak > levels.brightest_sclera && peak > levels.bright) {
-      cores |= patch_labels == patch_labels.at<int>(brightest);
+      // A large patch (over kLargeShare of the iris) must lie in dark iris
+      // too: one that runs on into the sclera which a fitted iris beside the
+      // photo's covers (d3.mp4 frame 330) would move that sclera as a glint,
+      // a white bar across the new iris.
+      const cv::Mat patch = patch_labels == patch_labels.at<int>(brightest);
+      if (cv::countNonZero(patch) > kLargeShare * static_cast<double>(eye.iris_luminance.size())) {
+        const double patch_surround = surround_of(patch);
+        if (patch_surround < 0 || patch_surround > levels.dark_surround) continue;
+      }
+      cores |= patch;
     } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast) {
       cores |= spot;
     }

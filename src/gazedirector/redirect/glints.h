@@ -25,9 +25,10 @@ struct Glints {
 // holds the fit rasterized over the photo, `cornea` its cornea attribute
 // (Renderer::CorneaAttribute interpolated over it). A glint is a spot on a
 // fitted iris standing out of dark iris around it: brighter than all of its
-// sclera (then with the bright patch it lies in), or small (at most 3% of
-// the iris) and brighter than the sclera's median; with its rim. Patches
-// over a quarter of the iris (glasses, a window) are not glints.
+// sclera (then with the bright patch it lies in, which, over 15% of the iris,
+// must lie in dark iris too), or small (at most 3% of the iris) and brighter
+// than the sclera's median; with its rim. Patches over a quarter of the iris
+// (glasses, a window) are not glints.
 Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& cornea);
 
 // How far each eye's glints (indexed by Eye) move in `camera`'s image when
