@@ -398,9 +398,16 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
   const std::array<bool, 2> eyes = OpenEyes(fitted, crop_camera, report.note);
   if (!eyes[0] && !eyes[1]) return report;
-  const std::array<double, 2> shown = options_.transfer_eyeballs && options_.min_transfer_fraction > 0
-                                          ? ShownOfLevelEyes(fitted, crop_camera)
-                                          : std::array<double, 2>{1, 1};
+  // How much each eye is a slit of lashes: 0 where it shows at least
+  // clear_fraction of its level eyeball, 1 below slit_fraction.
+  std::array<float, 2> slit = {0, 0};
+  if (options_.transfer_eyeballs && options_.slit_fraction < options_.clear_fraction) {
+    const std::array<double, 2> shown = ShownOfLevelEyes(fitted, crop_camera);
+    for (int eye = 0; eye < 2; ++eye) {
+      slit[eye] = static_cast<float>(std::clamp(
+          (options_.clear_fraction - shown[eye]) / (options_.clear_fraction - options_.slit_fraction), 0.0, 1.0));
+    }
+  }
   if (!eyes[0] || !eyes[1]) {  // only the open eye's parts from here on
     fitted_renderer_.set_eyes(eyes[0], eyes[1]);
     fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
@@ -478,8 +485,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     // An eye under lowered lids shows a slit of lashes: it gives the new
     // lid margins their shade but neither the eyeball deeper in nor the
     // rendering's colours.
-    const bool slit = shown[EyeOfPart(part)] < options_.min_transfer_fraction;
-    if (slit && target_depth.at<float>(y, x) > margin_px) continue;
+    const float slit_share = target_depth.at<float>(y, x) > margin_px ? slit[EyeOfPart(part)] : 0.0f;
+    if (slit_share >= 1) continue;
     // The photo where this surface point was, else where its mirror images were.
     // (The iris is dark itself: there the lashes' shade does no harm.)
     const bool sclera = IsSclera(cornea, x, y);
@@ -509,8 +516,8 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
     if (sclera) transfer.from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
-    transfer.transfer_mask.data[pixel] = 255;
-    if (!slit) transfer.colours.Add(value, colour, sclera);
+    transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
+    if (slit[EyeOfPart(part)] < 0.5f) transfer.colours.Add(value, colour, sclera);
   }
   transfer.colours.Finish();
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);

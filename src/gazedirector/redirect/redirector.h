@@ -44,13 +44,17 @@ struct RedirectOptions {
   // than this fraction of its eye opening when open.
   double min_open_fraction = 0.15;
   double max_closure_deg = 22;      // or its lid closure exceeds this
-  // An eye that shows less than this fraction of what it would show looking
+  // An eye that shows less than slit_fraction of what it would show looking
   // level with its lids at rest (looking down under lowered lids: 0.3-0.6
-  // on d3.mp4, open eyes mostly 0.7 and more) shows its iris and sclera only as a
-  // slit of lashes: deeper than the margin band inside the new lids it gets
-  // the rendered eyeball, not the slit's dark smear, and it does not colour
-  // the rendering. 0: the photo's eye is reused however little shows.
-  double min_transfer_fraction = 0.66;
+  // on d3.mp4, open eyes mostly 0.7 and more) shows its iris and sclera only
+  // as a slit of lashes: deeper than the margin band inside the new lids it
+  // gets the rendered eyeball, not the slit's dark smear. Up to
+  // clear_fraction the photo's share there fades in, so that a video's
+  // frames do not flip between the two; the slit colours the rendering only
+  // above halfway. slit_fraction >= clear_fraction: the photo's eye is
+  // reused however little shows.
+  double slit_fraction = 0.55;
+  double clear_fraction = 0.7;
 };
 
 // What one redirection did.

@@ -449,7 +449,7 @@ TEST(RedirectorTest, EyesLookingDownUnderLoweredLidsGetARenderedEyeball) {
   const FittedFrame& down = frames.at(100);
   ASSERT_TRUE(down.fit.good) << down.fit.note;
   RedirectOptions reuse_any;
-  reuse_any.min_transfer_fraction = 0;
+  reuse_any.slit_fraction = reuse_any.clear_fraction = 0;
   const Redirected before = RedirectToCamera(down, reuse_any);
   const Redirected now = RedirectToCamera(down, {});
   ASSERT_TRUE(now.report.redirected[0] && now.report.redirected[1]) << now.report.note;
