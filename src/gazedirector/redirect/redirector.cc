@@ -125,6 +125,79 @@ struct EyeballTransfer {
         moved_by(size, CV_32FC1, cv::Scalar(0)) {}
 };
 
+// What the transfer of the photo's eye surface onto the new eyeballs reads,
+// all over the eye region.
+struct TransferInputs {
+  const cv::Mat& surface;        // the photo (CV_32FC3), its glints filled in
+  const cv::Mat& source;         // per pixel: where the re-posed surface point was in the photo (CV_32FC2)
+  const cv::Mat& mirror_source;  // and where its three mirror images were (CV_32FC(6))
+  const cv::Mat& cornea;         // the re-posed eyeballs' cornea attribute
+  const cv::Mat& source_depth;   // pixels from the lids inside the fitted opening
+  const cv::Mat& target_depth;   // and inside the re-posed one
+  float margin_px;
+  double gain;                   // the chosen environment's reflections on the fitted eyes: gain x old_specular
+  const cv::Mat& old_specular;
+  std::array<float, 2> slit;     // per eye, how much it is a slit of lashes (0-1)
+};
+
+// The new eyeballs (`target`): the rendering everywhere, and the photo's own
+// eye surface where the fitted eyeball (`fitted`) showed it, or showed its
+// mirror image (away from old highlights), when `reuse_photo`. Right up to
+// the fitted lid margin: the lashes' shade there is the photo's, which the
+// rendering lacks. The colour match is finished.
+EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffers& target, const TransferInputs& in,
+                                 bool reuse_photo) {
+  const int width = target.width(), height = target.height();
+  EyeballTransfer transfer(cv::Size(width, height));
+  for (std::size_t i = 0; i < target.foreground.size(); ++i) {
+    const int pixel = target.foreground[i];
+    const int part = target.PartAt(pixel);
+    if (!IsEyeball(part)) continue;
+    const int x = pixel % width, y = pixel / width;
+    const cv::Vec3f colour = RenderedBgr(target, i);
+    transfer.rendered.at<cv::Vec3f>(y, x) = colour;
+    if (!reuse_photo) continue;
+    // An eye under lowered lids shows a slit of lashes: it gives the new
+    // lid margins their shade but neither the eyeball deeper in nor the
+    // rendering's colours.
+    const float slit_share = in.target_depth.at<float>(y, x) > in.margin_px ? in.slit[EyeOfPart(part)] : 0.0f;
+    if (slit_share >= 1) continue;
+    // The photo where this surface point was, else where its mirror images were.
+    // (The iris is dark itself: there the lashes' shade does no harm.)
+    const bool sclera = IsSclera(in.cornea, x, y);
+    const float depth_needed = sclera ? std::min(in.target_depth.at<float>(y, x), in.margin_px) - 0.5f : -1.0f;
+    auto usable = [&](const cv::Vec2f& s) {
+      const cv::Point at = NearestPixel(s);
+      if (!cv::Rect(0, 0, width, height).contains(at)) return false;
+      if (fitted.PartAt(at.y * width + at.x) != part) return false;
+      if (in.source_depth.at<float>(at) < depth_needed) return false;  // lash shade
+      return !(in.gain > 0 && in.gain * Luminance(in.old_specular.at<cv::Vec3f>(at)) > kHighlight);  // an old highlight
+    };
+    cv::Vec2f s = in.source.at<cv::Vec2f>(y, x);
+    bool found = usable(s);
+    const cv::Vec6f& mirrors = in.mirror_source.at<cv::Vec6f>(y, x);
+    for (int k = 0; k < 3 && !found; ++k) {
+      s = {mirrors[2 * k], mirrors[2 * k + 1]};
+      found = usable(s);
+    }
+    if (!found) continue;
+    // The photo's surface without the faint reflections the chosen
+    // environment explains there: the re-posed eye gets its own.
+    cv::Vec3f value = Bilinear(in.surface, s[0], s[1]);
+    if (in.gain > 0) {
+      const cv::Vec3f old_highlight = static_cast<float>(in.gain) * Bilinear(in.old_specular, s[0], s[1]);
+      for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
+    }
+    transfer.transferred.at<cv::Vec3f>(y, x) = value;
+    if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
+    transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
+    transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
+    if (in.slit[EyeOfPart(part)] < 0.5f) transfer.colours.Add(value, colour, sclera);
+  }
+  transfer.colours.Finish();
+  return transfer;
+}
+
 // Bright photo "iris" moved with the iris is sclera that a fitted iris
 // beside the photo's covered: the rendering fills it (where the eye barely
 // moves it stays as it was). Dark photo sclera belongs right at the new
@@ -309,6 +382,17 @@ std::array<double, 2> Redirector::ShownOfLevelEyes(const Parameters& fitted, con
   return shown;
 }
 
+std::array<float, 2> Redirector::SlitShares(const Parameters& fitted, const Camera& crop) {
+  std::array<float, 2> slit = {0, 0};
+  if (!options_.transfer_eyeballs || options_.slit_fraction >= options_.clear_fraction) return slit;
+  const std::array<double, 2> shown = ShownOfLevelEyes(fitted, crop);
+  for (int eye = 0; eye < 2; ++eye) {
+    slit[eye] = static_cast<float>(std::clamp(
+        (options_.clear_fraction - shown[eye]) / (options_.clear_fraction - options_.slit_fraction), 0.0, 1.0));
+  }
+  return slit;
+}
+
 void Redirector::Reflections(const Renderer& renderer, const RenderBuffers& buffers, const Camera& camera,
                              const EnvironmentMap& map, cv::Mat& specular) const {
   specular.create(buffers.height(), buffers.width(), CV_32FC3);
@@ -398,16 +482,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
   const std::array<bool, 2> eyes = OpenEyes(fitted, crop_camera, report.note);
   if (!eyes[0] && !eyes[1]) return report;
-  // How much each eye is a slit of lashes: 0 where it shows at least
-  // clear_fraction of its level eyeball, 1 below slit_fraction.
-  std::array<float, 2> slit = {0, 0};
-  if (options_.transfer_eyeballs && options_.slit_fraction < options_.clear_fraction) {
-    const std::array<double, 2> shown = ShownOfLevelEyes(fitted, crop_camera);
-    for (int eye = 0; eye < 2; ++eye) {
-      slit[eye] = static_cast<float>(std::clamp(
-          (options_.clear_fraction - shown[eye]) / (options_.clear_fraction - options_.slit_fraction), 0.0, 1.0));
-    }
-  }
+  const std::array<float, 2> slit = SlitShares(fitted, crop_camera);
   if (!eyes[0] || !eyes[1]) {  // only the open eye's parts from here on
     fitted_renderer_.set_eyes(eyes[0], eyes[1]);
     fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
@@ -417,7 +492,6 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   target_renderer_.Render(posed_target, crop_camera, target_buffers_);
   cv::Mat photo;
   image(region).convertTo(photo, CV_32FC3, 1.0 / 255);
-  const int width = region.width;
 
   // Where each surface point of the re-posed model was in the photo.
   ProjectParts(fitted_renderer_.posed(), crop_camera, {options_.warp_eyelids, options_.warp_eyelids, true, true}, sources_);
@@ -458,11 +532,7 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
     if (gain > 0) KeepFaintReflections(new_specular, target_buffers_, static_cast<float>(kHighlight / gain));
   }
 
-  // The new eyeballs: the photo's own eye surface where the fitted eyeball
-  // showed it, or showed its mirror image (away from old highlights), the
-  // rendering elsewhere. Right up to the fitted lid margin: the lashes' shade
-  // there is the photo's, which the rendering lacks.
-  EyeballTransfer transfer(region.size());
+  // The new eyeballs.
   const cv::Mat& surface = glints.surface.empty() ? photo : glints.surface;  // moved glints come on their own
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   // How deep inside its eye opening each pixel is (pixels from the lids), in
@@ -474,52 +544,10 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));
-  for (std::size_t i = 0; i < target_buffers_.foreground.size(); ++i) {
-    const int pixel = target_buffers_.foreground[i];
-    const int part = target_buffers_.PartAt(pixel);
-    if (!IsEyeball(part)) continue;
-    const int x = pixel % width, y = pixel / width;
-    const cv::Vec3f colour = RenderedBgr(target_buffers_, i);
-    transfer.rendered.at<cv::Vec3f>(y, x) = colour;
-    if (!options_.transfer_eyeballs) continue;
-    // An eye under lowered lids shows a slit of lashes: it gives the new
-    // lid margins their shade but neither the eyeball deeper in nor the
-    // rendering's colours.
-    const float slit_share = target_depth.at<float>(y, x) > margin_px ? slit[EyeOfPart(part)] : 0.0f;
-    if (slit_share >= 1) continue;
-    // The photo where this surface point was, else where its mirror images were.
-    // (The iris is dark itself: there the lashes' shade does no harm.)
-    const bool sclera = IsSclera(cornea, x, y);
-    const float depth_needed = sclera ? std::min(target_depth.at<float>(y, x), margin_px) - 0.5f : -1.0f;
-    auto usable = [&](const cv::Vec2f& s) {
-      const cv::Point at = NearestPixel(s);
-      if (!cv::Rect(0, 0, region.width, region.height).contains(at)) return false;
-      if (fitted_buffers_.PartAt(at.y * width + at.x) != part) return false;
-      if (source_depth.at<float>(at) < depth_needed) return false;  // lash shade
-      return !(gain > 0 && gain * Luminance(old_specular.at<cv::Vec3f>(at)) > kHighlight);  // an old highlight
-    };
-    cv::Vec2f s = source.at<cv::Vec2f>(y, x);
-    bool found = usable(s);
-    const cv::Vec6f& mirrors = mirror_source.at<cv::Vec6f>(y, x);
-    for (int k = 0; k < 3 && !found; ++k) {
-      s = {mirrors[2 * k], mirrors[2 * k + 1]};
-      found = usable(s);
-    }
-    if (!found) continue;
-    // The photo's surface without the faint reflections the chosen
-    // environment explains there: the re-posed eye gets its own below.
-    cv::Vec3f value = Bilinear(surface, s[0], s[1]);
-    if (gain > 0) {
-      const cv::Vec3f old_highlight = static_cast<float>(gain) * Bilinear(old_specular, s[0], s[1]);
-      for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
-    }
-    transfer.transferred.at<cv::Vec3f>(y, x) = value;
-    if (sclera) transfer.from_depth.at<float>(y, x) = source_depth.at<float>(NearestPixel(s));
-    transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
-    transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
-    if (slit[EyeOfPart(part)] < 0.5f) transfer.colours.Add(value, colour, sclera);
-  }
-  transfer.colours.Finish();
+  EyeballTransfer transfer = TransferEyeballs(
+      fitted_buffers_, target_buffers_,
+      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit},
+      options_.transfer_eyeballs);
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =

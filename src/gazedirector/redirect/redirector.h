@@ -99,6 +99,9 @@ class Redirector {
   // How much of each eyeball the fit (in fitted_buffers_) shows, as a
   // fraction of what the same eyes show looking level with their lids at rest.
   std::array<double, 2> ShownOfLevelEyes(const Parameters& fitted, const Camera& crop);
+  // How much each eye is a slit of lashes: 0 where it shows at least
+  // clear_fraction of its level eyeball, 1 below slit_fraction, linear between.
+  std::array<float, 2> SlitShares(const Parameters& fitted, const Camera& crop);
   // The environment map (`fixed`, or the best of all when -1) and its gain
   // whose reflections on the fitted eyeballs best explain the bright
   // residuals of the photo; `specular` gets those reflections (when gain > 0).
