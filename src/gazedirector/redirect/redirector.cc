@@ -367,28 +367,21 @@ std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera&
   return open;
 }
 
-std::array<double, 2> Redirector::ShownOfLevelEyes(const Parameters& fitted, const Camera& crop) {
+std::array<float, 2> Redirector::SlitShares(const Parameters& fitted, const Camera& crop) {
+  std::array<float, 2> slit = {0, 0};
+  if (!options_.transfer_eyeballs || options_.slit_fraction >= options_.clear_fraction) return slit;
+  // The same eyes looking level with their lids at rest.
   Parameters level = fitted;
   level.gaze_pitch() = 0;
   level.eyelid_pitch() = 0;
   level.eyelid_closure() = 0;
   target_renderer_.set_eyes(true, true);
   target_renderer_.Render(level, crop, target_buffers_);
-  std::array<double, 2> shown = {0, 0};
   for (int eye = 0; eye < 2; ++eye) {
     const int rest = CountPart(target_buffers_, EyeballPart(eye));
-    if (rest > 0) shown[eye] = static_cast<double>(CountPart(fitted_buffers_, EyeballPart(eye))) / rest;
-  }
-  return shown;
-}
-
-std::array<float, 2> Redirector::SlitShares(const Parameters& fitted, const Camera& crop) {
-  std::array<float, 2> slit = {0, 0};
-  if (!options_.transfer_eyeballs || options_.slit_fraction >= options_.clear_fraction) return slit;
-  const std::array<double, 2> shown = ShownOfLevelEyes(fitted, crop);
-  for (int eye = 0; eye < 2; ++eye) {
+    const double shown = rest > 0 ? static_cast<double>(CountPart(fitted_buffers_, EyeballPart(eye))) / rest : 0;
     slit[eye] = static_cast<float>(std::clamp(
-        (options_.clear_fraction - shown[eye]) / (options_.clear_fraction - options_.slit_fraction), 0.0, 1.0));
+        (options_.clear_fraction - shown) / (options_.clear_fraction - options_.slit_fraction), 0.0, 1.0));
   }
   return slit;
 }

@@ -96,11 +96,10 @@ class Redirector {
   // The eyes of `fitted` (rendered in fitted_buffers_ over `crop`) open
   // enough to redirect; the others are named in `note`.
   std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note);
-  // How much of each eyeball the fit (in fitted_buffers_) shows, as a
-  // fraction of what the same eyes show looking level with their lids at rest.
-  std::array<double, 2> ShownOfLevelEyes(const Parameters& fitted, const Camera& crop);
-  // How much each eye is a slit of lashes: 0 where it shows at least
-  // clear_fraction of its level eyeball, 1 below slit_fraction, linear between.
+  // How much each eye of the fit (in fitted_buffers_) is a slit of lashes,
+  // by the fraction of its eyeball that shows against the same eye looking
+  // level with its lids at rest: 0 from clear_fraction up, 1 below
+  // slit_fraction, linear between.
   std::array<float, 2> SlitShares(const Parameters& fitted, const Camera& crop);
   // The environment map (`fixed`, or the best of all when -1) and its gain
   // whose reflections on the fitted eyeballs best explain the bright

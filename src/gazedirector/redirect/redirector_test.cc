@@ -298,6 +298,19 @@ std::vector<double> GreyLevels(const cv::Mat& image, const cv::Mat& mask) {
   return levels;
 }
 
+// The median grey levels of d30's iris and sclera where its fit shows them.
+struct EyeLevels {
+  double iris, sclera;
+};
+EyeLevels PhotoEyeLevels(Redirector& redirector) {
+  const testing::FittedStill& p = Photo();
+  const Redirected as_fitted = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
+  const RedirectLayers& fitted = as_fitted.layers;
+  const cv::Mat region = p.image(as_fitted.report.region);
+  return {Median(GreyLevels(region, fitted.eyeball_mask & ~fitted.sclera_mask)),
+          Median(GreyLevels(region, fitted.sclera_mask))};
+}
+
 // A fitted iris that sits beside the photo's covers some of its sclera; moved
 // with the iris, that sclera used to draw a white crescent inside the new one
 // (d14.mp4's far glances, d3.mp4 frame 330). Here d30's fit is turned 6
@@ -305,12 +318,7 @@ std::vector<double> GreyLevels(const cv::Mat& image, const cv::Mat& mask) {
 TEST(RedirectorTest, AnIrisFittedBesideThePhotosCarriesNoScleraIntoTheNewOne) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
-  // How bright the photo's iris and sclera are where the fit shows them.
-  const Redirected as_fitted = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
-  const RedirectLayers& fitted = as_fitted.layers;
-  cv::Mat fitted_iris = fitted.eyeball_mask & ~fitted.sclera_mask;
-  const double iris_level = Median(GreyLevels(p.image(as_fitted.report.region), fitted_iris));
-  const double sclera_level = Median(GreyLevels(p.image(as_fitted.report.region), fitted.sclera_mask));
+  const auto [iris_level, sclera_level] = PhotoEyeLevels(redirector);
   ASSERT_GT(sclera_level, iris_level + 40);
 
   Parameters beside = p.fit.phi;
@@ -342,11 +350,7 @@ TEST(RedirectorTest, AnIrisFittedBesideThePhotosCarriesNoScleraIntoTheNewOne) {
 TEST(RedirectorTest, AnIrisFittedBesideThePhotosLeavesNoDarkPatchInTheNewSclera) {
   const testing::FittedStill& p = Photo();
   Redirector redirector(SharedModel());
-  const Redirected as_fitted = RedirectPhoto(redirector, p.fit.phi, p.fit.phi);
-  const RedirectLayers& fitted = as_fitted.layers;
-  const double iris_level =
-      Median(GreyLevels(p.image(as_fitted.report.region), fitted.eyeball_mask & ~fitted.sclera_mask));
-  const double sclera_level = Median(GreyLevels(p.image(as_fitted.report.region), fitted.sclera_mask));
+  const auto [iris_level, sclera_level] = PhotoEyeLevels(redirector);
   for (double off : {-6.0, 6.0}) {
     Parameters beside = p.fit.phi;
     beside.gaze_yaw() += off;
@@ -395,11 +399,6 @@ TEST(RedirectorTest, TheEyelidWarpFollowsTheGaze) {
   EXPECT_LT(flow_y / count, -0.3);
 }
 
-}  // namespace
-}  // namespace gazedirector
-
-namespace gazedirector {
-namespace {
 
 // Frames 100, 180 and 330 of d3.mp4 with its face tracked from the start, as
 // `redirect` fits a video (the iris and sclera colours settle on the open
@@ -439,10 +438,11 @@ Redirected RedirectToCamera(const FittedFrame& frame, const RedirectOptions& opt
 }
 
 // d3.mp4 frame 100 looks down under lowered lids (tracked, it shows 0.5 of
-// what its eyes show looking level): the photo shows a slit of lashes. Redirected to the camera, the opened eyes used to be that slit's
-// dark smear, "sclera" as dark as the iris; they get the rendered eyeball
-// now (deeper than the margin band), white sclera around a darker iris. An
-// open eye (frame 180) is redirected as before.
+// what its eyes show looking level): the photo shows a slit of lashes.
+// Redirected to the camera, the opened eyes used to be that slit's dark
+// smear, "sclera" as dark as the iris; they get the rendered eyeball now
+// (deeper than the margin band), white sclera around a darker iris. An open
+// eye (frame 180) is redirected as before.
 TEST(RedirectorTest, EyesLookingDownUnderLoweredLidsGetARenderedEyeball) {
   const auto& frames = TrackedD3Frames();
   ASSERT_EQ(frames.count(100) + frames.count(180), 2u);
@@ -476,11 +476,6 @@ TEST(RedirectorTest, EyesLookingDownUnderLoweredLidsGetARenderedEyeball) {
   EXPECT_EQ(cv::norm(open_now.image, open_before.image, cv::NORM_INF), 0.0);
 }
 
-}  // namespace
-}  // namespace gazedirector
-
-namespace gazedirector {
-namespace {
 
 // d3.mp4 frame 330 looks 22 degrees aside; its tracked fit puts each iris
 // beside the photo's, over sclera that touches a glint. The glint's bright
