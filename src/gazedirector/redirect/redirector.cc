@@ -115,6 +115,8 @@ struct EyeballTransfer {
   cv::Mat transfer_mask;          // 8-bit
   cv::Mat from_depth;             // sclera: how deep in the fitted opening its source was
   cv::Mat moved_by;               // how far its source was, in pixels
+  cv::Mat source;                 // where it came from (CV_32FC2)
+  cv::Mat highlight;              // the old reflections taken off it there (CV_32FC3)
   EyeColourMatch colours;
 
   explicit EyeballTransfer(cv::Size size)
@@ -122,7 +124,9 @@ struct EyeballTransfer {
         transferred(size, CV_32FC3, cv::Scalar::all(0)),
         transfer_mask(size, CV_8UC1, cv::Scalar(0)),
         from_depth(size, CV_32FC1, cv::Scalar(0)),
-        moved_by(size, CV_32FC1, cv::Scalar(0)) {}
+        moved_by(size, CV_32FC1, cv::Scalar(0)),
+        source(size, CV_32FC2, cv::Scalar::all(0)),
+        highlight(size, CV_32FC3, cv::Scalar::all(0)) {}
 };
 
 // What the transfer of the photo's eye surface onto the new eyeballs reads,
@@ -187,8 +191,10 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     if (in.gain > 0) {
       const cv::Vec3f old_highlight = static_cast<float>(in.gain) * Bilinear(in.old_specular, s[0], s[1]);
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
+      transfer.highlight.at<cv::Vec3f>(y, x) = old_highlight;
     }
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
+    transfer.source.at<cv::Vec2f>(y, x) = s;
     if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
@@ -282,11 +288,12 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
 // seam blurred by `seam` pixels. The photo's share is
 // blurred by `feather` within the eyeball mask (normalised), so that the
 // mask's own edge, where the photo continues outside, does not fade into the
-// rendering. `eyeball_layer` gets the eyeballs' colours before the seam.
+// rendering. `eyeball_layer` gets the eyeballs' colours before the seam;
+// `recipe` (when given) how each was made.
 cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, const cv::Rect& eyeballs_area,
                           const EyeballTransfer& transfer, const cv::Mat& cornea, const cv::Mat& photo_sclera,
                           double gain, const cv::Mat& specular, const cv::Mat& glints, double feather, double seam,
-                          cv::Mat& eyeball_layer) {
+                          cv::Mat& eyeball_layer, CompositeRecipe* recipe) {
   cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
   transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
@@ -297,6 +304,11 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
 
   eyeball_layer = warped.clone();
   cv::Mat out = warped.clone();
+  if (recipe != nullptr) {
+    recipe->photo_share = cv::Mat(warped.size(), CV_32F, cv::Scalar(0));
+    recipe->rest = cv::Mat(warped.size(), CV_32FC3, cv::Scalar::all(0));
+    recipe->seam_alpha = cv::Mat(warped.size(), CV_32F, cv::Scalar(0));
+  }
   for (int y = 0; y < warped.rows; ++y) {
     for (int x = 0; x < warped.cols; ++x) {
       if (!eyeball_mask.at<uchar>(y, x)) continue;
@@ -305,13 +317,18 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
       const bool sclera = IsSclera(cornea, x, y);
       const cv::Vec3f nearby_sclera =
           sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
-      cv::Vec3f colour = transfer.colours.Match(plain, sclera, nearby_sclera);
-      colour = w * transfer.transferred.at<cv::Vec3f>(y, x) + (1 - w) * colour;
+      const cv::Vec3f photo_part = w * transfer.transferred.at<cv::Vec3f>(y, x);
+      cv::Vec3f colour = photo_part + (1 - w) * transfer.colours.Match(plain, sclera, nearby_sclera);
       if (gain > 0) colour += static_cast<float>(gain) * specular.at<cv::Vec3f>(y, x);
       if (!glints.empty()) colour += glints.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
       const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
       out.at<cv::Vec3f>(y, x) = a * colour + (1 - a) * warped.at<cv::Vec3f>(y, x);
+      if (recipe != nullptr) {
+        recipe->photo_share.at<float>(y, x) = w;
+        recipe->rest.at<cv::Vec3f>(y, x) = colour - photo_part;
+        recipe->seam_alpha.at<float>(y, x) = a;
+      }
     }
   }
   return out;
@@ -341,6 +358,15 @@ Redirector::Redirector(std::shared_ptr<const EyeRegionModel> model, RedirectOpti
       fitted_renderer_(model),
       target_renderer_(model),
       cornea_flags_(Renderer::CorneaAttribute(*model)) {}
+
+Parameters Redirector::PosedTarget(const Parameters& fitted, const Parameters& target) const {
+  Parameters posed = target;
+  if (!options_.warp_eyelids) {  // the lids stay as fitted
+    posed.eyelid_pitch() = fitted.eyelid_pitch();
+    posed.eyelid_closure() = fitted.eyelid_closure();
+  }
+  return posed;
+}
 
 std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note) {
   // How much eyeball the fit (in fitted_buffers_) shows, against the same
@@ -451,16 +477,63 @@ int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, in
 
 RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const Parameters& fitted,
                                     const Parameters& target, RedirectLayers* layers) {
+  const double interocular_px = camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
+  const double scale = interocular_px / std::max(1.0, options_.working_interocular_px);
+  if (scale <= 1) return RedirectAtThisSize(image, camera, fitted, target, layers, nullptr);
+  return RedirectShrunk(image, camera, fitted, target, scale, layers);
+}
+
+RedirectReport Redirector::RedirectShrunk(cv::Mat& image, const Camera& camera, const Parameters& fitted,
+                                          const Parameters& target, double scale, RedirectLayers* layers) {
+  // The eye region with room for the working size's own margins and blurs.
+  fitted_renderer_.set_eyes(true, true);
+  fitted_renderer_.Pose(fitted);
+  target_renderer_.set_eyes(true, true);
+  target_renderer_.Pose(PosedTarget(fitted, target));
+  const cv::Rect area = (ModelBounds(fitted_renderer_.posed(), camera, 0.1) |
+                         ModelBounds(target_renderer_.posed(), camera, 0.1)) & cv::Rect(0, 0, image.cols, image.rows);
+  const cv::Size small_size(std::max(1, static_cast<int>(std::lround(area.width / scale))),
+                            std::max(1, static_cast<int>(std::lround(area.height / scale))));
+  if (area.empty() || small_size.width < 8 || small_size.height < 4) {
+    RedirectReport report;
+    report.note = "the eyes are outside the image";
+    return report;
+  }
+  cv::Mat small;
+  cv::resize(image(area), small, small_size, 0, 0, cv::INTER_AREA);
+  const Camera small_camera = camera.Resampled(area.x, area.y, area.width, area.height, small.cols, small.rows);
+  CompositeRecipe recipe;
+  RedirectReport report = RedirectAtThisSize(small, small_camera, fitted, target, layers, &recipe);
+  if (!report.redirected[0] && !report.redirected[1]) return report;
+  // The new eyeballs' outline at full size, where the recipe's would step.
+  const Camera area_camera = camera.Cropped(area.x, area.y, area.width, area.height);
+  target_renderer_.set_eyes(report.redirected[0], report.redirected[1]);
+  target_renderer_.Pose(PosedTarget(fitted, target));
+  target_renderer_.Rasterize(area_camera, target_buffers_);
+
+  const double scale_x = static_cast<double>(area.width) / small.cols;
+  const double scale_y = static_cast<double>(area.height) / small.rows;
+  cv::Mat photo;
+  image(area).convertTo(photo, CV_32FC3, 1.0 / 255);
+  FollowRecipe(recipe, photo, scale_x, scale_y, target_buffers_.EyeballMaskImage())
+      .convertTo(image(area), CV_8UC3, 255.0);
+  const cv::Rect& changed = report.region;
+  const cv::Point top_left(static_cast<int>(std::floor(changed.x * scale_x)), static_cast<int>(std::floor(changed.y * scale_y)));
+  const cv::Point bottom_right(static_cast<int>(std::ceil(changed.br().x * scale_x)),
+                               static_cast<int>(std::ceil(changed.br().y * scale_y)));
+  report.region = (cv::Rect(top_left, bottom_right) + area.tl()) & cv::Rect(0, 0, image.cols, image.rows);
+  return report;
+}
+
+RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& camera, const Parameters& fitted,
+                                              const Parameters& target, RedirectLayers* layers,
+                                              CompositeRecipe* recipe) {
   RedirectReport report;
   if (fitted.eyelid_closure() > options_.max_closure_deg) {
     report.note = fmt::format("eyes closed (lid closure {:.0f} deg)", fitted.eyelid_closure());
     return report;
   }
-  Parameters posed_target = target;
-  if (!options_.warp_eyelids) {
-    posed_target.eyelid_pitch() = fitted.eyelid_pitch();
-    posed_target.eyelid_closure() = fitted.eyelid_closure();
-  }
+  const Parameters posed_target = PosedTarget(fitted, target);
   fitted_renderer_.set_eyes(true, true);
   fitted_renderer_.Pose(fitted);
   target_renderer_.Pose(posed_target);
@@ -552,10 +625,25 @@ RedirectReport Redirector::Redirect(cv::Mat& image, const Camera& camera, const 
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);
   cv::Mat eyeball_layer;
   const cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, cornea, photo_sclera, gain,
-                                        new_specular, moved_glints, feather, seam, eyeball_layer);
+                                        new_specular, moved_glints, feather, seam, eyeball_layer, recipe);
   out.convertTo(image(region), CV_8UC3, 255.0);
   report.redirected = eyes;
   report.region = region;
+  if (recipe != nullptr) {
+    recipe->region = region;
+    recipe->skin_source = warp.map;
+    recipe->eyeball_mask = eyeball_mask;
+    recipe->photo_source = transfer.source;
+    recipe->highlight = transfer.highlight;
+    if (!glints.surface.empty()) {
+      recipe->surface = glints.surface;
+      cv::Mat filled;
+      cv::absdiff(glints.surface, photo, filled);
+      cv::transform(filled, recipe->glint_fill, cv::Matx13f(1, 1, 1));
+      cv::threshold(recipe->glint_fill, recipe->glint_fill, 0, 1, cv::THRESH_BINARY);
+      cv::dilate(recipe->glint_fill, recipe->glint_fill, cv::Mat());  // a larger photo's glint edges go too
+    }
+  }
 
   if (layers != nullptr) {
     cv::Mat added = gain > 0 ? cv::Mat(new_specular * gain) : cv::Mat();

@@ -8,6 +8,7 @@
 
 #include "gazedirector/geometry/camera.h"
 #include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/redirect/composite_recipe.h"
 #include "gazedirector/redirect/environment_map.h"
 #include "gazedirector/render/renderer.h"
 
@@ -55,6 +56,12 @@ struct RedirectOptions {
   // reused however little shows.
   double slit_fraction = 0.55;
   double clear_fraction = 0.7;
+  // A face whose eyes are farther apart than this many pixels is redirected
+  // at this size, and what was decided there is followed over the photo's
+  // own pixels (CompositeRecipe): the masks, bands and thresholds above were
+  // tuned on faces of 50-150 pixels, and at several times that they drew
+  // hard edges and streaks.
+  double working_interocular_px = 150;
 };
 
 // What one redirection did.
@@ -66,7 +73,8 @@ struct RedirectReport {
   cv::Rect region;                                  // the image region changed
 };
 
-// Pictures of the steps, for --debug-dir. All of the region's size.
+// Pictures of the steps, for --debug-dir. All of the region's size (at the
+// working size for faces larger than it).
 struct RedirectLayers {
   cv::Mat flow;           // CV_32FC2: where each output pixel's skin comes from, minus its position
   cv::Mat skin_mask;      // 8-bit: the warped facial skin
@@ -93,6 +101,17 @@ class Redirector {
   RedirectOptions& options() { return options_; }
 
  private:
+  // Redirect at the image's own size; `recipe` (when given) gets how each
+  // pixel of the changed region was made.
+  RedirectReport RedirectAtThisSize(cv::Mat& image, const Camera& camera, const Parameters& fitted,
+                                    const Parameters& target, RedirectLayers* layers, CompositeRecipe* recipe);
+  // Redirect a face larger than the working size (`scale` times it): the
+  // eye region, shrunk to the working size, is redirected there and its
+  // recipe followed at full size. The layers are of the working size.
+  RedirectReport RedirectShrunk(cv::Mat& image, const Camera& camera, const Parameters& fitted,
+                                const Parameters& target, double scale, RedirectLayers* layers);
+  // `target` as the redirection poses it: with the fitted lids when they are not warped.
+  Parameters PosedTarget(const Parameters& fitted, const Parameters& target) const;
   // The eyes of `fitted` (rendered in fitted_buffers_ over `crop`) open
   // enough to redirect; the others are named in `note`.
   std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note);
