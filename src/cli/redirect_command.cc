@@ -365,6 +365,12 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   std::optional<std::set<FitKey>> iris_off;  // found while tracking, else in a pass of their own
   const FitsFile fits = FitsOfVideo(options, setup, camera, iris_off);
   RequireFitsOfSize(fits, info.width, info.height);
+  const bool any_face = std::any_of(fits.frames.begin(), fits.frames.end(),
+                                    [](const auto& frame) { return !frame.second.faces.empty(); });
+  if (!any_face) {
+    Fail(ExitCode::kNoFace, "no face found in any of the {} frames of {}; nothing to redirect", fits.frames.size(),
+         options.input);
+  }
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
   if (!iris_off) iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
   const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, *iris_off);

@@ -334,6 +334,26 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
   return out;
 }
 
+// 1 (CV_32F) where `surface` has the photo's glints filled, and a pixel
+// around: a larger photo's glints have edges beyond the working size's.
+cv::Mat GlintFill(const cv::Mat& surface, const cv::Mat& photo) {
+  cv::Mat difference, fill;
+  cv::absdiff(surface, photo, difference);
+  cv::transform(difference, fill, cv::Matx13f(1, 1, 1));
+  cv::threshold(fill, fill, 0, 1, cv::THRESH_BINARY);
+  cv::dilate(fill, fill, cv::Mat());
+  return fill;
+}
+
+// `rect` of an image resized by `scale_x` x `scale_y`: the pixels it covers there.
+cv::Rect Enlarged(const cv::Rect& rect, double scale_x, double scale_y) {
+  const cv::Point top_left(static_cast<int>(std::floor(rect.x * scale_x)),
+                           static_cast<int>(std::floor(rect.y * scale_y)));
+  const cv::Point bottom_right(static_cast<int>(std::ceil(rect.br().x * scale_x)),
+                               static_cast<int>(std::ceil(rect.br().y * scale_y)));
+  return {top_left, bottom_right};
+}
+
 }  // namespace
 
 cv::Mat FlowPicture(const cv::Mat& flow, double scale) {
@@ -517,11 +537,7 @@ RedirectReport Redirector::RedirectShrunk(cv::Mat& image, const Camera& camera, 
   image(area).convertTo(photo, CV_32FC3, 1.0 / 255);
   FollowRecipe(recipe, photo, scale_x, scale_y, target_buffers_.EyeballMaskImage())
       .convertTo(image(area), CV_8UC3, 255.0);
-  const cv::Rect& changed = report.region;
-  const cv::Point top_left(static_cast<int>(std::floor(changed.x * scale_x)), static_cast<int>(std::floor(changed.y * scale_y)));
-  const cv::Point bottom_right(static_cast<int>(std::ceil(changed.br().x * scale_x)),
-                               static_cast<int>(std::ceil(changed.br().y * scale_y)));
-  report.region = (cv::Rect(top_left, bottom_right) + area.tl()) & cv::Rect(0, 0, image.cols, image.rows);
+  report.region = (Enlarged(report.region, scale_x, scale_y) + area.tl()) & cv::Rect(0, 0, image.cols, image.rows);
   return report;
 }
 
@@ -637,11 +653,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
     recipe->highlight = transfer.highlight;
     if (!glints.surface.empty()) {
       recipe->surface = glints.surface;
-      cv::Mat filled;
-      cv::absdiff(glints.surface, photo, filled);
-      cv::transform(filled, recipe->glint_fill, cv::Matx13f(1, 1, 1));
-      cv::threshold(recipe->glint_fill, recipe->glint_fill, 0, 1, cv::THRESH_BINARY);
-      cv::dilate(recipe->glint_fill, recipe->glint_fill, cv::Mat());  // a larger photo's glint edges go too
+      recipe->glint_fill = GlintFill(glints.surface, photo);
     }
   }
 

@@ -94,7 +94,9 @@ class Redirector {
 
   // Changes `image` (8-bit BGR) in place where the eyes of the face fitted
   // by `fitted` are, so that they look as in `target` (Φ re-posed: gaze and
-  // eyelids). Eyes that are closed are left untouched and reported.
+  // eyelids). Eyes that are closed are left untouched and reported. A face
+  // larger than options().working_interocular_px is redirected at that size
+  // and the result followed over the image's own pixels.
   RedirectReport Redirect(cv::Mat& image, const Camera& camera, const Parameters& fitted, const Parameters& target,
                           RedirectLayers* layers = nullptr);
 
