@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include <opencv2/imgproc.hpp>
+
 #include "gazedirector/redirect/eye_image.h"
 
 namespace gazedirector {
@@ -62,7 +64,7 @@ bool BlendFetch(const cv::Mat& sources, const Neighbours& around, cv::Point2f p,
 }  // namespace
 
 cv::Mat FollowRecipe(const CompositeRecipe& recipe, const cv::Mat& photo, double scale_x, double scale_y,
-                     const cv::Mat& eyeball_mask) {
+                     const cv::Mat& eyeball_mask, double seam) {
   const cv::Rect& region = recipe.region;
   // Photo pixel <-> recipe pixel, as cv::resize maps pixel centres.
   auto to_recipe = [&](int x, int y) {
@@ -91,6 +93,8 @@ cv::Mat FollowRecipe(const CompositeRecipe& recipe, const cv::Mat& photo, double
   auto shared = [&](cv::Point q) { return recipe.photo_share.at<float>(q) > 0; };
 
   cv::Mat out = photo.clone();
+  cv::Mat eyeballs(photo.size(), CV_8UC1, cv::Scalar(0));  // where this size's new eyeballs are
+  cv::Mat glints = recipe.glints.empty() ? cv::Mat() : cv::Mat(photo.size(), CV_32FC3, cv::Scalar::all(0));
   const int x_begin = std::max(0, static_cast<int>(std::ceil(region.x * scale_x - 0.5)));
   const int x_end = std::min(photo.cols, static_cast<int>(std::floor((region.x + region.width) * scale_x - 0.5)) + 1);
   const int y_begin = std::max(0, static_cast<int>(std::ceil(region.y * scale_y - 0.5)));
@@ -126,8 +130,13 @@ cv::Mat FollowRecipe(const CompositeRecipe& recipe, const cv::Mat& photo, double
         colour += share * cv::Vec3f(std::max(0.0f, value[0]), std::max(0.0f, value[1]), std::max(0.0f, value[2]));
       }
       out.at<cv::Vec3f>(y, x) = alpha * colour + (1 - alpha) * warped;
+      eyeballs.at<uchar>(y, x) = 255;
+      if (!glints.empty()) Blend(recipe.glints, around, eyeball, glints.at<cv::Vec3f>(y, x));
     }
   }
+  // As at the working size: the seam softened, then the glints added.
+  if (seam > 0) BlurSeam(out, eyeballs, cv::boundingRect(eyeballs), seam);
+  if (!glints.empty()) out += glints;
   return out;
 }
 

@@ -17,8 +17,9 @@ struct CompositeRecipe {
   cv::Mat photo_source;   // CV_32FC2: where an eyeball pixel's photo share comes from
   cv::Mat photo_share;    // CV_32F: that share of its colour
   cv::Mat highlight;      // CV_32FC3: taken off the photo's share (the old reflections there)
-  cv::Mat rest;           // CV_32FC3: its colour besides the photo's share (rendering, reflections, glints)
+  cv::Mat rest;           // CV_32FC3: its colour besides the photo's share (rendering, reflections)
   cv::Mat seam_alpha;     // CV_32F: the eyeball's weight over the warped photo
+  cv::Mat glints;         // CV_32FC3: the moved glints, added after the seam is softened (may be empty)
   cv::Mat surface;        // CV_32FC3: the photo with its glints filled in, where glint_fill > 0
   cv::Mat glint_fill;     // CV_32F: 1 where `surface` replaces the photo
 };
@@ -28,8 +29,9 @@ struct CompositeRecipe {
 // as cv::resize maps them). Pixels outside the recipe's region are kept.
 // `eyeball_mask` (8-bit, of the photo's size) says where the new eyeballs
 // are, rasterized at full size; empty: where the recipe's mask, enlarged,
-// says (its edge then steps by the scale).
+// says (its edge then steps by the scale). Their seam is softened by a
+// Gaussian of `seam` pixels (BlurSeam; 0: not at all).
 cv::Mat FollowRecipe(const CompositeRecipe& recipe, const cv::Mat& photo, double scale_x, double scale_y,
-                     const cv::Mat& eyeball_mask = cv::Mat());
+                     const cv::Mat& eyeball_mask = cv::Mat(), double seam = 0);
 
 }  // namespace gazedirector

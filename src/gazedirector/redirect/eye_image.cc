@@ -30,6 +30,22 @@ cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) 
   return blurred;
 }
 
+void BlurSeam(cv::Mat& image, const cv::Mat& mask, const cv::Rect& area, double sigma) {
+  const int reach = static_cast<int>(std::ceil(3 * sigma));
+  const cv::Rect around =
+      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), image.size());
+  cv::Mat inside;
+  mask.convertTo(inside, CV_32F, 1.0 / 255);
+  const cv::Mat share = BlurredWithin(inside, around, sigma);
+  const cv::Mat blurred = BlurredWithin(image, around, sigma);
+  for (int y = around.y; y < around.y + around.height; ++y) {
+    for (int x = around.x; x < around.x + around.width; ++x) {
+      const float s = share.at<float>(y, x), band = 4 * s * (1 - s);
+      if (band > 0) image.at<cv::Vec3f>(y, x) = band * blurred.at<cv::Vec3f>(y, x) + (1 - band) * image.at<cv::Vec3f>(y, x);
+    }
+  }
+}
+
 cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
                      const cv::Vec3f& typical) {
   constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1

@@ -21,6 +21,11 @@ inline bool IsSclera(const cv::Mat& cornea, int x, int y) { return cornea.at<flo
 // to be right within `area` (zero elsewhere).
 cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma);
 
+// Softens the seam along the edge of `mask` (8-bit) in `image`: within about
+// two `sigma` of it, `image` blurred by a Gaussian of `sigma` is blended in,
+// fully on the edge. `area` holds the mask.
+void BlurSeam(cv::Mat& image, const cv::Mat& mask, const cv::Rect& area, double sigma);
+
 // The colour of `image`'s pixels in `shown` (8-bit mask) near each pixel of
 // `area`: they are blurred by `sigma` pixels and normalised by how many are
 // near, drawn toward `typical` where few are (and `typical` outside `area`).

@@ -283,17 +283,17 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
 
 // The new eyeballs over the warped photo: the photo's share (`transfer`)
 // feathered into the rendering matched to the photo's colours (sclera: as
-// the photo's sclera nearby, `photo_sclera`), reflections added (`gain` x
-// `specular`) and the photo's glints moved (`glints`, may be empty), and a
-// seam blurred by `seam` pixels. The photo's share is
+// the photo's sclera nearby, `photo_sclera`) and reflections added (`gain` x
+// `specular`); where the mask is thinner than about `seam` pixels (the
+// corners) the warped photo shows through. The photo's share is
 // blurred by `feather` within the eyeball mask (normalised), so that the
 // mask's own edge, where the photo continues outside, does not fade into the
 // rendering. `eyeball_layer` gets the eyeballs' colours before the seam;
 // `recipe` (when given) how each was made.
 cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, const cv::Rect& eyeballs_area,
                           const EyeballTransfer& transfer, const cv::Mat& cornea, const cv::Mat& photo_sclera,
-                          double gain, const cv::Mat& specular, const cv::Mat& glints, double feather, double seam,
-                          cv::Mat& eyeball_layer, CompositeRecipe* recipe) {
+                          double gain, const cv::Mat& specular, double feather, double seam, cv::Mat& eyeball_layer,
+                          CompositeRecipe* recipe) {
   cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
   transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
   eyeball_mask.convertTo(eyeball_weight, CV_32F, 1.0 / 255);
@@ -320,7 +320,6 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
       const cv::Vec3f photo_part = w * transfer.transferred.at<cv::Vec3f>(y, x);
       cv::Vec3f colour = photo_part + (1 - w) * transfer.colours.Match(plain, sclera, nearby_sclera);
       if (gain > 0) colour += static_cast<float>(gain) * specular.at<cv::Vec3f>(y, x);
-      if (!glints.empty()) colour += glints.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
       const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
       out.at<cv::Vec3f>(y, x) = a * colour + (1 - a) * warped.at<cv::Vec3f>(y, x);
@@ -535,7 +534,8 @@ RedirectReport Redirector::RedirectShrunk(cv::Mat& image, const Camera& camera, 
   const double scale_y = static_cast<double>(area.height) / small.rows;
   cv::Mat photo;
   image(area).convertTo(photo, CV_32FC3, 1.0 / 255);
-  FollowRecipe(recipe, photo, scale_x, scale_y, target_buffers_.EyeballMaskImage())
+  const double seam = std::max(0.5, options_.seam_blur * options_.working_interocular_px * scale);
+  FollowRecipe(recipe, photo, scale_x, scale_y, target_buffers_.EyeballMaskImage(), seam)
       .convertTo(image(area), CV_8UC3, 255.0);
   report.region = (Enlarged(report.region, scale_x, scale_y) + area.tl()) & cv::Rect(0, 0, image.cols, image.rows);
   return report;
@@ -640,8 +640,15 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);
   cv::Mat eyeball_layer;
-  const cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, cornea, photo_sclera, gain,
-                                        new_specular, moved_glints, feather, seam, eyeball_layer, recipe);
+  cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, cornea, photo_sclera, gain,
+                                  new_specular, feather, seam, eyeball_layer, recipe);
+  // The seam is softened, then the glints are added, so that it does not
+  // smear those next to the lids. (A recipe is followed at full size first.)
+  if (recipe == nullptr) BlurSeam(out, eyeball_mask, eyeballs_area, seam);
+  if (!moved_glints.empty()) {
+    if (recipe == nullptr) out += moved_glints;
+    eyeball_layer += moved_glints;
+  }
   out.convertTo(image(region), CV_8UC3, 255.0);
   report.redirected = eyes;
   report.region = region;
@@ -651,6 +658,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
     recipe->eyeball_mask = eyeball_mask;
     recipe->photo_source = transfer.source;
     recipe->highlight = transfer.highlight;
+    recipe->glints = moved_glints;
     if (!glints.surface.empty()) {
       recipe->surface = glints.surface;
       recipe->glint_fill = GlintFill(glints.surface, photo);

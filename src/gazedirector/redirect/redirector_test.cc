@@ -81,10 +81,11 @@ TEST(RedirectorTest, RedirectingToTheFittedGazeChangesLittleAndNothingOutside) {
   EXPECT_EQ(cv::norm(difference, cv::NORM_INF, outside), 0.0);
   // Only the seam's blur and the swapped highlights may differ (the photo's
   // own eye is reused right up to the lid margin, less the faint reflections
-  // the chosen environment explains there, which are then added back): 0.11
-  // levels on average; 0.29 with the photo's share faded at the mask's edge,
-  // the highlights cut out and its darker sclera replaced.
-  EXPECT_LT(cv::mean(difference(report.region))[1], 0.2);
+  // the chosen environment explains there, which are then added back): 0.22
+  // levels on average, 0.11 before the seam was softened (session 62); 0.29
+  // with the photo's share faded at the mask's edge, the highlights cut out
+  // and its darker sclera replaced.
+  EXPECT_LT(cv::mean(difference(report.region))[1], 0.3);
 }
 
 TEST(RedirectorTest, YawMovesTheIrisesTheWayAndByAboutTheAmountTheModelPredicts) {
@@ -422,10 +423,10 @@ TEST(RedirectorTest, APhotoFourTimesLargerIsRedirectedAsThePhotoItself) {
   };
   const auto [mean, off] = redirect_large(RedirectOptions().working_interocular_px);
   // The working sizes differ (85.7 and 150 px), and an iris edge a pixel
-  // apart differs by far more than 40 levels: 12.5 levels and 7.2% now.
+  // apart differs by far more than 40 levels: 10.8 levels and 4.6% now.
   EXPECT_LT(mean, 15);
   EXPECT_LT(off, 0.1);
-  // The whole redirection at the large size: 18.1 levels, 17.4%.
+  // The whole redirection at the large size: 16.2 levels, 14.3%.
   const auto [mean_at_size, off_at_size] = redirect_large(1e9);
   EXPECT_GT(off_at_size, 2 * off);
 }
