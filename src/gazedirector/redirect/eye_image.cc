@@ -21,9 +21,7 @@ cv::Vec3f Bilinear(const cv::Mat& image, float x, float y) {
 }
 
 cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) {
-  const int reach = static_cast<int>(std::ceil(3 * sigma));
-  const cv::Rect around =
-      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), image.size());
+  const cv::Rect around = GrownWithin(area, static_cast<int>(std::ceil(3 * sigma)), image.size());
   cv::Mat blurred = cv::Mat::zeros(image.size(), image.type());
   cv::Mat part = blurred(around);
   cv::GaussianBlur(image(around), part, cv::Size(0, 0), sigma);
@@ -31,9 +29,7 @@ cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma) 
 }
 
 void BlurSeam(cv::Mat& image, const cv::Mat& mask, const cv::Rect& area, double sigma) {
-  const int reach = static_cast<int>(std::ceil(3 * sigma));
-  const cv::Rect around =
-      (area + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(), image.size());
+  const cv::Rect around = GrownWithin(area, static_cast<int>(std::ceil(3 * sigma)), image.size());
   cv::Mat inside;
   mask.convertTo(inside, CV_32F, 1.0 / 255);
   const cv::Mat share = BlurredWithin(inside, around, sigma);

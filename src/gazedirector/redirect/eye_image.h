@@ -17,6 +17,11 @@ cv::Vec3f Bilinear(const cv::Mat& image, float x, float y);
 inline constexpr float kLimbus = 0.5f;
 inline bool IsSclera(const cv::Mat& cornea, int x, int y) { return cornea.at<float>(y, x) < kLimbus; }
 
+// `rect` grown by `margin` pixels on every side, within an image of `size`.
+inline cv::Rect GrownWithin(const cv::Rect& rect, int margin, cv::Size size) {
+  return (rect + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & cv::Rect(cv::Point(), size);
+}
+
 // `image` blurred by a Gaussian of `sigma`, computed only where it is needed
 // to be right within `area` (zero elsewhere).
 cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma);

@@ -34,8 +34,7 @@ std::array<EyePixels, 2> PixelsOfEyes(const cv::Mat& photo, const RenderBuffers&
   std::array<EyePixels, 2> eyes;
   for (int eye = 0; eye < 2; ++eye) {
     const int margin = std::max(4, boxes[eye].height / 2);
-    const cv::Rect box = (boxes[eye] + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) &
-                         cv::Rect(cv::Point(), photo.size());
+    const cv::Rect box = GrownWithin(boxes[eye], margin, photo.size());
     eyes[eye].box = box;
     eyes[eye].eyeball = cv::Mat(box.size(), CV_8UC1, cv::Scalar(0));
     eyes[eye].iris = cv::Mat(box.size(), CV_8UC1, cv::Scalar(0));
@@ -151,7 +150,6 @@ Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::M
   constexpr std::size_t kEnough = 10;  // samples of iris and of sclera
   constexpr double kLargest = 0.25;    // of the iris: larger bright patches are no glints (glasses, a window)
   Glints glints;
-  cv::Mat filled;  // the glints and a pixel around them
   const std::array<EyePixels, 2> eyes = PixelsOfEyes(photo, fitted, cornea);
   for (int eye = 0; eye < 2; ++eye) {
     const EyePixels& pixels = eyes[eye];
@@ -177,14 +175,13 @@ Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::M
     fill &= pixels.eyeball;
     if (glints.surface.empty()) {
       glints.surface = photo.clone();
-      filled = cv::Mat(photo.size(), CV_8UC1, cv::Scalar(0));
+      glints.filled = cv::Mat(photo.size(), CV_8UC1, cv::Scalar(0));
     }
     // Within reach of the glints only.
     const double reach = std::max(1.5, 0.25 * std::sqrt(iris_pixels / M_PI));
     const int margin = static_cast<int>(std::ceil(3 * reach)) + 1;
     const cv::Rect area = cv::boundingRect(fill);
-    const cv::Rect near = (area + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) &
-                          cv::Rect(cv::Point(), fill.size());
+    const cv::Rect near = GrownWithin(area, margin, fill.size());
     const cv::Mat iris = pixels.iris(near), sclera = pixels.eyeball(near) & ~iris, near_photo = eye_photo(near);
     const cv::Mat unfilled = ~fill(near);
     const cv::Rect within = area - near.tl();
@@ -193,14 +190,14 @@ Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::M
     NearbyColour(near_photo, near_sclera, within, reach, MedianColour(near_photo, near_sclera)).copyTo(beneath, sclera);
     cv::min(beneath, near_photo, beneath);
     const cv::Rect in_photo = near + pixels.box.tl();
-    cv::Mat near_surface = glints.surface(in_photo), near_filled = filled(in_photo);
+    cv::Mat near_surface = glints.surface(in_photo), near_filled = glints.filled(in_photo);
     beneath.copyTo(near_surface, fill(near));
     near_filled |= fill(near);
     glints.found[eye] = true;
   }
   if (!glints.surface.empty()) {
     glints.light = cv::Mat(photo.size(), CV_32FC3, cv::Scalar::all(0));
-    cv::subtract(photo, glints.surface, glints.light, filled);
+    cv::subtract(photo, glints.surface, glints.light, glints.filled);
   }
   return glints;
 }

@@ -18,6 +18,7 @@ namespace gazedirector {
 struct Glints {
   cv::Mat light;    // CV_32FC3: what the glints add to the eye beneath them (zero elsewhere)
   cv::Mat surface;  // CV_32FC3: the photo with its glints filled in from the iris around them (empty if none)
+  cv::Mat filled;   // 8-bit: where `surface` was filled in, the glints and a pixel around them (empty if none)
   std::array<bool, 2> found = {false, false};
 };
 

@@ -115,18 +115,21 @@ struct EyeballTransfer {
   cv::Mat transfer_mask;          // 8-bit
   cv::Mat from_depth;             // sclera: how deep in the fitted opening its source was
   cv::Mat moved_by;               // how far its source was, in pixels
-  cv::Mat source;                 // where it came from (CV_32FC2)
-  cv::Mat highlight;              // the old reflections taken off it there (CV_32FC3)
+  cv::Mat source;                 // where it came from (CV_32FC2), when kept for a recipe
+  cv::Mat highlight;              // the old reflections taken off it there (CV_32FC3), likewise
   EyeColourMatch colours;
 
-  explicit EyeballTransfer(cv::Size size)
+  EyeballTransfer(cv::Size size, bool keep_sources)
       : rendered(size, CV_32FC3, cv::Scalar::all(0)),
         transferred(size, CV_32FC3, cv::Scalar::all(0)),
         transfer_mask(size, CV_8UC1, cv::Scalar(0)),
         from_depth(size, CV_32FC1, cv::Scalar(0)),
-        moved_by(size, CV_32FC1, cv::Scalar(0)),
-        source(size, CV_32FC2, cv::Scalar::all(0)),
-        highlight(size, CV_32FC3, cv::Scalar::all(0)) {}
+        moved_by(size, CV_32FC1, cv::Scalar(0)) {
+    if (keep_sources) {
+      source = cv::Mat(size, CV_32FC2, cv::Scalar::all(0));
+      highlight = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
+    }
+  }
 };
 
 // What the transfer of the photo's eye surface onto the new eyeballs reads,
@@ -148,11 +151,12 @@ struct TransferInputs {
 // eye surface where the fitted eyeball (`fitted`) showed it, or showed its
 // mirror image (away from old highlights), when `reuse_photo`. Right up to
 // the fitted lid margin: the lashes' shade there is the photo's, which the
-// rendering lacks. The colour match is finished.
+// rendering lacks. The colour match is finished; `keep_sources` keeps
+// where each pixel came from (for a CompositeRecipe).
 EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffers& target, const TransferInputs& in,
-                                 bool reuse_photo) {
+                                 bool reuse_photo, bool keep_sources) {
   const int width = target.width(), height = target.height();
-  EyeballTransfer transfer(cv::Size(width, height));
+  EyeballTransfer transfer(cv::Size(width, height), keep_sources);
   for (std::size_t i = 0; i < target.foreground.size(); ++i) {
     const int pixel = target.foreground[i];
     const int part = target.PartAt(pixel);
@@ -191,10 +195,10 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     if (in.gain > 0) {
       const cv::Vec3f old_highlight = static_cast<float>(in.gain) * Bilinear(in.old_specular, s[0], s[1]);
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
-      transfer.highlight.at<cv::Vec3f>(y, x) = old_highlight;
+      if (keep_sources) transfer.highlight.at<cv::Vec3f>(y, x) = old_highlight;
     }
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
-    transfer.source.at<cv::Vec2f>(y, x) = s;
+    if (keep_sources) transfer.source.at<cv::Vec2f>(y, x) = s;
     if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
@@ -333,14 +337,12 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
   return out;
 }
 
-// 1 (CV_32F) where `surface` has the photo's glints filled, and a pixel
+// 1 (CV_32F) where the glints were filled (8-bit `filled`), and a pixel
 // around: a larger photo's glints have edges beyond the working size's.
-cv::Mat GlintFill(const cv::Mat& surface, const cv::Mat& photo) {
-  cv::Mat difference, fill;
-  cv::absdiff(surface, photo, difference);
-  cv::transform(difference, fill, cv::Matx13f(1, 1, 1));
-  cv::threshold(fill, fill, 0, 1, cv::THRESH_BINARY);
-  cv::dilate(fill, fill, cv::Mat());
+cv::Mat GlintFill(const cv::Mat& filled) {
+  cv::Mat fill;
+  cv::dilate(filled, fill, cv::Mat());
+  fill.convertTo(fill, CV_32F, 1.0 / 255);
   return fill;
 }
 
@@ -629,7 +631,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   EyeballTransfer transfer = TransferEyeballs(
       fitted_buffers_, target_buffers_,
       {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit},
-      options_.transfer_eyeballs);
+      options_.transfer_eyeballs, recipe != nullptr);
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =
@@ -661,7 +663,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
     recipe->glints = moved_glints;
     if (!glints.surface.empty()) {
       recipe->surface = glints.surface;
-      recipe->glint_fill = GlintFill(glints.surface, photo);
+      recipe->glint_fill = GlintFill(glints.filled);
     }
   }
 
