@@ -37,6 +37,13 @@ ffmpeg -v error -y -i "$tmp/d30_contact.png" -vf "crop=1200:260:0:170,scale=900:
 ffmpeg -v error -y -i "$tmp/d19_contact.png" -vf "scale=900:-2" -q:v 3 "$out/eye_contact_d19.jpg"
 ffmpeg -v error -y -i "$tmp/s12_contact.png" -vf "scale=900:-2" -q:v 3 "$out/eye_contact_s12.jpg"
 
+# Converging eyes (s42.jpg): the photo, the fit with the vergence free and eye contact.
+$gd track $data/images/s42.jpg -o "$tmp/s42_fit.json" --overlay "$tmp/s42_fit.png" -q
+$gd redirect $data/images/s42.jpg --fits "$tmp/s42_fit.json" -o "$tmp/s42_contact.png" --look-at camera -q
+ffmpeg -v error -y -i $data/images/s42.jpg -i "$tmp/s42_fit.png" -i "$tmp/s42_contact.png" -filter_complex \
+  "[0]crop=220:70:150:223[a];[1]crop=220:70:150:223[b];[2]crop=220:70:150:223[c];[a][b][c]hstack=inputs=3,scale=1320:-2" \
+  "$out/converging_s42.jpg"
+
 # Large angles: one face over pitch -15..15 and yaw -45..45 degrees (head frame).
 tiles=()
 for pitch in 15 0 -15; do

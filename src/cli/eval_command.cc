@@ -13,7 +13,7 @@
 #include "cli/common.h"
 #include "cli/fitting.h"
 #include "gazedirector/eval/columbia.h"
-#include "gazedirector/eval/iris_alignment.h"
+#include "gazedirector/fit/iris_alignment.h"
 #include "gazedirector/eval/landmark_accuracy.h"
 #include "gazedirector/eval/redirect_columbia.h"
 #include "gazedirector/fit/fit_options.h"

@@ -15,7 +15,7 @@
 
 #include "cli/common.h"
 #include "cli/fitting.h"
-#include "gazedirector/eval/iris_alignment.h"
+#include "gazedirector/fit/iris_alignment.h"
 #include "gazedirector/io/fit_io.h"
 #include "gazedirector/io/image_io.h"
 #include "gazedirector/io/media.h"
@@ -127,16 +127,6 @@ std::string EyeList(const std::array<bool, 2>& eyes) {
   return "no eye";
 }
 
-// The larger of a fit's two iris misalignments (eval iris), 0 where neither
-// eye shows enough eyeball to tell.
-double WorstIrisOffset(const cv::Mat& image, const Camera& camera, const StoredFit& fit, Renderer& renderer) {
-  double worst = 0;
-  for (double offset : IrisMisalignment(image, camera, fit.phi, fit.eyes, renderer)) {
-    if (std::isfinite(offset)) worst = std::max(worst, offset);
-  }
-  return worst;
-}
-
 bool IrisOffTooFar(double offset, const RedirectCommandOptions& options) {
   return options.max_iris_offset > 0 && offset > options.max_iris_offset;
 }
@@ -177,7 +167,7 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
       spdlog::warn("face {}: left untouched: the fit is poor ({})", fit.face_id, fit.note);
       continue;
     }
-    const double offset = WorstIrisOffset(image, camera, fit, renderer);
+    const double offset = WorstIrisMisalignment(image, camera, fit.phi, fit.eyes, renderer);
     if (IrisOffTooFar(offset, options)) {
       spdlog::warn("face {}: left untouched: a fitted iris sits {:.2f} iris radii from the photo's (over "
                    "--max-iris-offset {:g}); redirected it would show a broken iris",
@@ -227,7 +217,7 @@ void AddFitsWithIrisOff(const RedirectCommandOptions& options, const cv::Mat& fr
                         std::set<FitKey>& off) {
   if (options.max_iris_offset <= 0) return;
   for (const StoredFit& fit : fits) {
-    if (!fit.eyes_closed && IrisOffTooFar(WorstIrisOffset(frame, camera, fit, renderer), options)) {
+    if (!fit.eyes_closed && IrisOffTooFar(WorstIrisMisalignment(frame, camera, fit.phi, fit.eyes, renderer), options)) {
       off.insert({index, fit.face_id});
     }
   }

@@ -4,6 +4,10 @@
 #include <cmath>
 #include <utility>
 
+#include <spdlog/spdlog.h>
+
+#include "gazedirector/fit/iris_alignment.h"
+
 namespace gazedirector {
 namespace {
 
@@ -38,6 +42,11 @@ bool AtALimit(const Parameters& phi) {
 // A fit the fitter flags as bad, or one at a limit.
 bool Stuck(const FitResult& fit) { return !fit.good || AtALimit(fit.phi); }
 
+FitOptions WithVergenceFree(FitOptions options, bool free) {
+  if (free) options.weights.vergence = 0;
+  return options;
+}
+
 }  // namespace
 
 FitOptions WarmFitOptions() {
@@ -63,7 +72,8 @@ GazeTracker::GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::share
         return face_options;
       }()),
       fresh_(model, options.fresh, pool ? pool : (pool = std::make_shared<ThreadPool>())),
-      warm_(model, options.warm, pool) {}
+      warm_(model, options.warm, pool),
+      renderer_(model) {}
 
 void GazeTracker::Reset() {
   faces_.Reset();
@@ -74,6 +84,23 @@ std::vector<FaceFit> GazeTracker::ProcessImage(const cv::Mat& image, const Camer
   std::vector<FaceFit> fits;
   for (const Face& face : faces_.DetectFaces(image, camera)) fits.push_back(Fit(image, camera, face, nullptr, 0.0));
   return fits;
+}
+
+GazeTracker::FreshFit GazeTracker::FitFresh(const cv::Mat& image, const Camera& camera, const Face& face,
+                                            FitOptions options, bool free_vergence) {
+  fresh_.options() = WithVergenceFree(options, free_vergence);
+  FreshFit fit{fresh_.FitFace(image, camera, face), free_vergence};
+  const double limit = options_.free_vergence_iris_offset;
+  if (free_vergence || limit <= 0 || !fit.fit.good) return fit;
+  const double offset = WorstIrisMisalignment(image, camera, fit.fit.phi, {true, true}, renderer_);
+  if (offset <= limit) return fit;
+  fresh_.options() = WithVergenceFree(options, true);
+  FitResult free = fresh_.FitFace(image, camera, face);
+  const double free_offset = WorstIrisMisalignment(image, camera, free.phi, {true, true}, renderer_);
+  spdlog::debug("face {}: an iris {:.2f} radii off its eye; with the vergence free {:.2f} (vergence {:.1f} deg, image energy {:.5f} against {:.5f})",
+                face.id, offset, free_offset, free.phi.vergence(), free.terms.image, fit.fit.terms.image);
+  if (!free.good || free_offset > limit || free_offset >= offset || free.terms.image > fit.fit.terms.image) return fit;
+  return {std::move(free), true};
 }
 
 std::vector<FaceFit> GazeTracker::ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera) {
@@ -106,7 +133,7 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
   result.eyes_closed = history != nullptr && InABlink(opening, timestamp_s, *history);
   if (history != nullptr && history->fits > 0) {
     const bool settled = history->fits >= options_.settle_frames;
-    FitOptions options = settled ? options_.SettledWarm() : options_.warm;
+    FitOptions options = WithVergenceFree(settled ? options_.SettledWarm() : options_.warm, history->free_vergence);
     Parameters start = history->phi;
     if (result.eyes_closed) {
       Hold(options.free, {Block::kGaze});
@@ -118,10 +145,11 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
     result.fit = warm_.FitFace(image, camera, face, &start);
     result.warm = true;
     // Keeps a refit when it explains the frame better.
-    auto keep_if_better = [&result](FitResult refit) {
+    auto keep_if_better = [&result, history](FitResult refit, bool free_vergence) {
       if (refit.terms.total() >= result.fit.terms.total()) return;
       result.fit = std::move(refit);
       result.warm = false;
+      history->free_vergence = free_vergence;
     };
     const Parameters usual_start = settled ? WithSettled(start, history->settled) : start;
     if (usual_start.values != start.values) {
@@ -139,20 +167,25 @@ FaceFit GazeTracker::Fit(const cv::Mat& image, const Camera& camera, const Face&
       // A settled face keeps its shape and texture: refits happen on unusual
       // frames (a half-closed eye, a fast turn), the worst to learn them from.
       // (Not in a blink, so `start` is the last fit and usual_start its settled version.)
-      fresh_.options() = settled ? HoldSettled(options_.fresh) : options_.fresh;
-      keep_if_better(settled ? fresh_.RefitFace(image, camera, face, usual_start)
-                             : fresh_.FitFace(image, camera, face));
+      if (settled) {
+        fresh_.options() = WithVergenceFree(HoldSettled(options_.fresh), history->free_vergence);
+        keep_if_better(fresh_.RefitFace(image, camera, face, usual_start), history->free_vergence);
+      } else {
+        FreshFit refit = FitFresh(image, camera, face, options_.fresh, history->free_vergence);
+        keep_if_better(std::move(refit.fit), refit.free_vergence);
+      }
       if (settled && Stuck(result.fit)) {
         // An expression the settled shape cannot follow (eyes opened wide
         // while looking aside): this frame, and the next ones while it
         // explains them better, get a shape and texture of their own.
-        fresh_.options() = options_.fresh;
-        keep_if_better(fresh_.FitFace(image, camera, face));
+        FreshFit refit = FitFresh(image, camera, face, options_.fresh, history->free_vergence);
+        keep_if_better(std::move(refit.fit), refit.free_vergence);
       }
     }
   } else {
-    fresh_.options() = options_.fresh;
-    result.fit = fresh_.FitFace(image, camera, face);
+    FreshFit fresh = FitFresh(image, camera, face, options_.fresh, false);
+    result.fit = std::move(fresh.fit);
+    if (history != nullptr) history->free_vergence = fresh.free_vergence;
   }
   if (history != nullptr) {
     history->phi = result.fit.phi;

@@ -11,6 +11,7 @@
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/fit/fitter.h"
 #include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/render/renderer.h"
 #include "gazedirector/util/thread_pool.h"
 
 namespace gazedirector {
@@ -44,6 +45,14 @@ struct GazeTrackerOptions {
   double closed_eye_fraction = 0.6;
   double closed_lid_deg = 42;
   double max_blink_s = 0.5;
+  // Converging eyes (a face looking at something near: a phone held close, a
+  // screen): the vergence prior holds the eyes' axes parallel, which most
+  // faces' are, so where the photo's irises converge it fits one iris beside
+  // its eye. A fresh fit whose iris sits more than this many iris radii from
+  // the photo's (IrisMisalignment) is fitted again with the vergence free, and
+  // the refit kept where its irises sit within this distance and closer, at no
+  // more image energy; the face's warm fits then keep the vergence free. 0: never.
+  double free_vergence_iris_offset = 0.7;
   // The warm options with the settled parameters held.
   FitOptions SettledWarm() const;
 };
@@ -69,8 +78,18 @@ class GazeTracker {
     double typical_energy = 0;  // running average of good fits' energies
     EyeOpeningTracker opening;
     double narrow_since_s = -1;  // when the eyes became narrower than a blink's threshold; -1 while open
+    bool free_vergence = false;  // the face's eyes converge (free_vergence_iris_offset)
   };
   FaceFit Fit(const cv::Mat& image, const Camera& camera, const Face& face, History* history, double timestamp_s);
+  struct FreshFit {
+    FitResult fit;
+    bool free_vergence = false;  // fitted with the vergence free
+  };
+  // A fit from the face's landmarks (gaze search and all) with `options`, the
+  // vergence free where `free_vergence` says or where the prior holds an iris
+  // off its eye (free_vergence_iris_offset).
+  FreshFit FitFresh(const cv::Mat& image, const Camera& camera, const Face& face, FitOptions options,
+                    bool free_vergence);
   // Whether eyes at `opening` (a fraction of their usual opening) are closed in a blink.
   bool InABlink(double opening, double timestamp_s, History& history) const;
 
@@ -79,6 +98,7 @@ class GazeTracker {
   FaceTracker faces_;
   Fitter fresh_;
   Fitter warm_;
+  Renderer renderer_;  // for IrisMisalignment
   std::map<int, History> histories_;
 };
 

@@ -1,4 +1,4 @@
-#include "gazedirector/eval/iris_alignment.h"
+#include "gazedirector/fit/iris_alignment.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "gazedirector/eval/iris_alignment.h"
+#include "gazedirector/fit/iris_alignment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -73,6 +73,15 @@ std::array<double, 2> IrisMisalignment(const cv::Mat& image, const Camera& camer
     if (iris.radius > 0) misalignment[eye] = (centroid - iris.centre).norm() / iris.radius;
   }
   return misalignment;
+}
+
+double WorstIrisMisalignment(const cv::Mat& image, const Camera& camera, const Parameters& phi,
+                             std::array<bool, 2> eyes, Renderer& renderer) {
+  double worst = 0;
+  for (double offset : IrisMisalignment(image, camera, phi, eyes, renderer)) {
+    if (std::isfinite(offset)) worst = std::max(worst, offset);
+  }
+  return worst;
 }
 
 }  // namespace gazedirector

@@ -21,6 +21,10 @@ namespace gazedirector {
 std::array<double, 2> IrisMisalignment(const cv::Mat& image, const Camera& camera, const Parameters& phi,
                                        std::array<bool, 2> eyes, Renderer& renderer);
 
+// The larger of the two, 0 where neither eye shows enough eyeball to tell.
+double WorstIrisMisalignment(const cv::Mat& image, const Camera& camera, const Parameters& phi,
+                             std::array<bool, 2> eyes, Renderer& renderer);
+
 inline constexpr int kMinEyeballPixels = 12;
 
 }  // namespace gazedirector
