@@ -10,6 +10,7 @@
 #include "gazedirector/redirect/eye_image.h"
 #include "gazedirector/redirect/glints.h"
 #include "gazedirector/render/model_bounds.h"
+#include "gazedirector/util/statistics.h"
 
 namespace gazedirector {
 namespace {
@@ -255,6 +256,32 @@ void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, float 
     const float luminance = Luminance(value);
     if (luminance > most) value *= most / luminance;
   }
+}
+
+// The photo's clear sclera as the fit showed it: the median colour of the
+// brighter half of the fitted sclera deeper than `margin_px` inside the fitted
+// opening (lids, lashes and the iris's edge are darker), or `fallback` where
+// fewer than ten pixels show.
+cv::Vec3f ClearScleraColour(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& fitted_cornea,
+                            const cv::Mat& source_depth, float margin_px, const cv::Vec3f& fallback) {
+  std::vector<cv::Vec3f> sclera;
+  for (int pixel : fitted.foreground) {
+    const int x = pixel % photo.cols, y = pixel / photo.cols;
+    if (IsEyeball(fitted.PartAt(pixel)) && IsSclera(fitted_cornea, x, y) && source_depth.at<float>(y, x) > margin_px) {
+      sclera.push_back(photo.at<cv::Vec3f>(y, x));
+    }
+  }
+  if (sclera.size() < 10) return fallback;
+  const auto brighter_half = sclera.begin() + static_cast<std::ptrdiff_t>(sclera.size() / 2);
+  std::nth_element(sclera.begin(), brighter_half, sclera.end(),
+                   [](const cv::Vec3f& a, const cv::Vec3f& b) { return Luminance(a) < Luminance(b); });
+  std::array<std::vector<double>, 3> channels;
+  for (auto it = brighter_half; it != sclera.end(); ++it) {
+    for (int c = 0; c < 3; ++c) channels[c].push_back((*it)[c]);
+  }
+  cv::Vec3f colour;
+  for (int c = 0; c < 3; ++c) colour[c] = static_cast<float>(Median(std::move(channels[c])));
+  return colour;
 }
 
 // What --debug-dir shows of one redirection; `specular`: the reflections
@@ -607,8 +634,8 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   // environment's strong reflections (its faint ones stay).
   Glints glints;
   cv::Mat moved_glints;
+  const cv::Mat fitted_cornea = Renderer::InterpolateAttribute(fitted_buffers_, *model_, cornea_flags_, 1);
   if (options_.move_glints && options_.transfer_eyeballs) {
-    const cv::Mat fitted_cornea = Renderer::InterpolateAttribute(fitted_buffers_, *model_, cornea_flags_, 1);
     glints = FindGlints(photo, fitted_buffers_, fitted_cornea);
     if (glints.found[0] || glints.found[1]) {
       moved_glints = MovedGlints(glints, GlintShifts(fitted, posed_target, crop_camera), target_buffers_);
@@ -637,7 +664,9 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   const cv::Mat photo_sclera =
       transfer.colours.sclera_known()
           ? NearbyColour(transfer.transferred, clear_sclera, eyeballs_area,
-                         std::max(1.0, options_.sclera_colour_reach * interocular_px), transfer.colours.sclera_colour())
+                         std::max(1.0, options_.sclera_colour_reach * interocular_px),
+                         ClearScleraColour(photo, fitted_buffers_, fitted_cornea, source_depth, margin_px,
+                                           transfer.colours.sclera_colour()))
           : cv::Mat();
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);

@@ -36,7 +36,10 @@ struct RedirectOptions {
   double margin_band = 0.02;
   double seam_blur = 0.012;         // Gaussian sigma of the eyeball seam, as a fraction of the interocular distance in pixels
   // Rendered sclera takes the colour of the photo's sclera within about this
-  // fraction of the interocular distance (a Gaussian sigma).
+  // fraction of the interocular distance (a Gaussian sigma); where none is
+  // reused that near, the colour of the brighter half of the sclera the fit
+  // showed deeper than the margin band (lids, lashes and the iris's edge,
+  // which a small eye's sclera hardly escapes, are darker).
   double sclera_colour_reach = 0.03;
   // The photo's share of the new eyeballs fades into the rendering over this
   // fraction of the interocular distance (a Gaussian sigma, at least 0.8 px).

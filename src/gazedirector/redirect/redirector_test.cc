@@ -243,6 +243,37 @@ TEST(RedirectorTest, ALargeTurnShowsCleanSclera) {
   }
 }
 
+// d19.jpg: a dim photo of small eyes whose sclera shows as two narrow
+// triangles, darkened by the lids and lashes around them. Turned 15 degrees
+// up, the sclera bared below the iris is rendered, coloured by the photo's
+// sclera reused nearby or else by the photo's clear sclera (the brighter
+// half of the sclera the fit showed away from its lids). Coloured by the
+// median of the sclera reused (mostly lid-shaded) where none was reused
+// nearby, it read 90.5 grey levels against the photo's 97.5; 94.7 now.
+TEST(RedirectorTest, ScleraBaredBelowALiftedIrisIsAsLightAsThePhotosSclera) {
+  const testing::FittedStill& p = testing::FitStill("images/d19.jpg");
+  ASSERT_TRUE(p.fit.good) << p.fit.note;
+  Redirector redirector(SharedModel());
+  auto redirect = [&](const Parameters& target) {
+    Redirected redirected{p.image.clone(), {}, {}};
+    redirected.report = redirector.Redirect(redirected.image, p.camera, p.fit.phi, target, &redirected.layers);
+    return redirected;
+  };
+  const Redirected at_rest = redirect(p.fit.phi);
+  cv::Mat shown;
+  cv::erode(at_rest.layers.sclera_mask, shown, cv::Mat());
+  ASSERT_GT(cv::countNonZero(shown), 20);
+  const Tone photo = ToneUnder(p.image(at_rest.report.region), shown, 0);
+  const Redirected up = redirect(Retarget(p.fit.phi, GazeTarget::Offset(15, 0)));
+  ASSERT_TRUE(up.report.redirected[0] && up.report.redirected[1]) << up.report.note;
+  const cv::Mat rendered = up.layers.sclera_mask & ~up.layers.transfer_mask;
+  ASSERT_GT(cv::countNonZero(rendered), 30);
+  const Tone bared = ToneUnder(up.layers.eyeball_layer, rendered, 0);
+  std::printf("photo sclera %.1f, rendered sclera below the lifted iris %.1f\n", photo.luminance, bared.luminance);
+  EXPECT_GT(bared.luminance, 0.95 * photo.luminance);
+  EXPECT_LT(bared.luminance, 1.3 * photo.luminance);
+}
+
 // How much brighter, in grey levels, rendered sclera pixels are than the
 // transferred sclera pixels beside them (4-neighbours) in the composited
 // eyeball layer, on average.
