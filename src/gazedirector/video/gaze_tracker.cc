@@ -99,7 +99,11 @@ GazeTracker::FreshFit GazeTracker::FitFresh(const cv::Mat& image, const Camera& 
   const double free_offset = WorstIrisMisalignment(image, camera, free.phi, {true, true}, renderer_);
   spdlog::debug("face {}: an iris {:.2f} radii off its eye; with the vergence free {:.2f} (vergence {:.1f} deg, image energy {:.5f} against {:.5f})",
                 face.id, offset, free_offset, free.phi.vergence(), free.terms.image, fit.fit.terms.image);
-  if (!free.good || free_offset > limit || free_offset >= offset || free.terms.image > fit.fit.terms.image) return fit;
+  // Freed, eyes that only look noisy drift apart (diverging) as readily as
+  // together: only a fit that converges answers the question.
+  const bool better = free.good && free.phi.vergence() > 0 && free_offset <= limit && free_offset < offset &&
+                      free.terms.image <= fit.fit.terms.image;
+  if (!better) return fit;
   return {std::move(free), true};
 }
 

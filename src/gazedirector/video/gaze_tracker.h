@@ -50,8 +50,9 @@ struct GazeTrackerOptions {
   // faces' are, so where the photo's irises converge it fits one iris beside
   // its eye. A fresh fit whose iris sits more than this many iris radii from
   // the photo's (IrisMisalignment) is fitted again with the vergence free, and
-  // the refit kept where its irises sit within this distance and closer, at no
-  // more image energy; the face's warm fits then keep the vergence free. 0: never.
+  // the refit kept where it converges, its irises sit within this distance and
+  // closer, at no more image energy; the face's warm fits then keep the
+  // vergence free. 0: never.
   double free_vergence_iris_offset = 0.7;
   // The warm options with the settled parameters held.
   FitOptions SettledWarm() const;
