@@ -97,7 +97,8 @@ GazeTracker::FreshFit GazeTracker::FitFresh(const cv::Mat& image, const Camera& 
   fresh_.options() = WithVergenceFree(options, true);
   FitResult free = fresh_.FitFace(image, camera, face);
   const double free_offset = WorstIrisMisalignment(image, camera, free.phi, {true, true}, renderer_);
-  spdlog::debug("face {}: an iris {:.2f} radii off its eye; with the vergence free {:.2f} (vergence {:.1f} deg, image energy {:.5f} against {:.5f})",
+  spdlog::debug("face {}: an iris {:.2f} radii off its eye; with the vergence free {:.2f} (vergence {:.1f} deg, "
+                "image energy {:.5f} against {:.5f})",
                 face.id, offset, free_offset, free.phi.vergence(), free.terms.image, fit.fit.terms.image);
   // Freed, eyes that only look noisy drift apart (diverging) as readily as
   // together: only a fit that converges answers the question.
