@@ -10,7 +10,6 @@
 #include "gazedirector/redirect/eye_image.h"
 #include "gazedirector/redirect/glints.h"
 #include "gazedirector/render/model_bounds.h"
-#include "gazedirector/util/statistics.h"
 
 namespace gazedirector {
 namespace {
@@ -264,24 +263,18 @@ void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, float 
 // fewer than ten pixels show.
 cv::Vec3f ClearScleraColour(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& fitted_cornea,
                             const cv::Mat& source_depth, float margin_px, const cv::Vec3f& fallback) {
-  std::vector<cv::Vec3f> sclera;
+  cv::Mat clear(photo.size(), CV_8UC1, cv::Scalar(0));
   for (int pixel : fitted.foreground) {
     const int x = pixel % photo.cols, y = pixel / photo.cols;
     if (IsEyeball(fitted.PartAt(pixel)) && IsSclera(fitted_cornea, x, y) && source_depth.at<float>(y, x) > margin_px) {
-      sclera.push_back(photo.at<cv::Vec3f>(y, x));
+      clear.data[pixel] = 255;
     }
   }
-  if (sclera.size() < 10) return fallback;
-  const auto brighter_half = sclera.begin() + static_cast<std::ptrdiff_t>(sclera.size() / 2);
-  std::nth_element(sclera.begin(), brighter_half, sclera.end(),
-                   [](const cv::Vec3f& a, const cv::Vec3f& b) { return Luminance(a) < Luminance(b); });
-  std::array<std::vector<double>, 3> channels;
-  for (auto it = brighter_half; it != sclera.end(); ++it) {
-    for (int c = 0; c < 3; ++c) channels[c].push_back((*it)[c]);
-  }
-  cv::Vec3f colour;
-  for (int c = 0; c < 3; ++c) colour[c] = static_cast<float>(Median(std::move(channels[c])));
-  return colour;
+  if (cv::countNonZero(clear) < 10) return fallback;
+  cv::Mat luminance;
+  cv::cvtColor(photo, luminance, cv::COLOR_BGR2GRAY);  // Luminance()'s weights
+  clear &= luminance >= MedianUnder(luminance, clear, 0);
+  return MedianColour(photo, clear);
 }
 
 // What --debug-dir shows of one redirection; `specular`: the reflections

@@ -40,8 +40,8 @@ struct Redirected {
   RedirectReport report;
 };
 
-Redirected RedirectPhoto(Redirector& redirector, const Parameters& fitted, const Parameters& target) {
-  const testing::FittedStill& p = Photo();
+Redirected RedirectPhoto(Redirector& redirector, const Parameters& fitted, const Parameters& target,
+                         const testing::FittedStill& p = Photo()) {
   Redirected redirected{p.image.clone(), {}, {}};
   redirected.report = redirector.Redirect(redirected.image, p.camera, fitted, target, &redirected.layers);
   return redirected;
@@ -254,17 +254,12 @@ TEST(RedirectorTest, ScleraBaredBelowALiftedIrisIsAsLightAsThePhotosSclera) {
   const testing::FittedStill& p = testing::FitStill("images/d19.jpg");
   ASSERT_TRUE(p.fit.good) << p.fit.note;
   Redirector redirector(SharedModel());
-  auto redirect = [&](const Parameters& target) {
-    Redirected redirected{p.image.clone(), {}, {}};
-    redirected.report = redirector.Redirect(redirected.image, p.camera, p.fit.phi, target, &redirected.layers);
-    return redirected;
-  };
-  const Redirected at_rest = redirect(p.fit.phi);
+  const Redirected at_rest = RedirectPhoto(redirector, p.fit.phi, p.fit.phi, p);
   cv::Mat shown;
   cv::erode(at_rest.layers.sclera_mask, shown, cv::Mat());
   ASSERT_GT(cv::countNonZero(shown), 20);
   const Tone photo = ToneUnder(p.image(at_rest.report.region), shown, 0);
-  const Redirected up = redirect(Retarget(p.fit.phi, GazeTarget::Offset(15, 0)));
+  const Redirected up = RedirectPhoto(redirector, p.fit.phi, Retarget(p.fit.phi, GazeTarget::Offset(15, 0)), p);
   ASSERT_TRUE(up.report.redirected[0] && up.report.redirected[1]) << up.report.note;
   const cv::Mat rendered = up.layers.sclera_mask & ~up.layers.transfer_mask;
   ASSERT_GT(cv::countNonZero(rendered), 30);
