@@ -42,6 +42,31 @@ void BlurSeam(cv::Mat& image, const cv::Mat& mask, const cv::Rect& area, double 
   }
 }
 
+cv::Mat MixedAcrossEdge(const cv::Mat& image, const cv::Mat& mask, const cv::Mat& edge_distance) {
+  cv::Mat out = image.clone();
+  const cv::Rect inside(0, 0, image.cols, image.rows);
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      const float d = edge_distance.at<float>(y, x);
+      if (!mask.at<uchar>(y, x) || std::abs(d) >= 0.5f) continue;
+      // Within half a pixel of a straight edge, the neighbour along its
+      // normal's larger component lies across it.
+      cv::Vec3f across(0, 0, 0);
+      int count = 0;
+      for (const cv::Point step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+        const cv::Point n(x + step.x, y + step.y);
+        if (!inside.contains(n) || !mask.at<uchar>(n) || (edge_distance.at<float>(n) > 0) == (d > 0)) continue;
+        across += image.at<cv::Vec3f>(n);
+        ++count;
+      }
+      if (count == 0) continue;
+      const float own = 0.5f + std::abs(d);
+      out.at<cv::Vec3f>(y, x) = own * image.at<cv::Vec3f>(y, x) + (1 - own) / count * across;
+    }
+  }
+  return out;
+}
+
 cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
                      const cv::Vec3f& typical) {
   constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1

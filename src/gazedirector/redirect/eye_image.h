@@ -31,6 +31,12 @@ cv::Mat BlurredWithin(const cv::Mat& image, const cv::Rect& area, double sigma);
 // fully on the edge. `area` holds the mask.
 void BlurSeam(cv::Mat& image, const cv::Mat& mask, const cv::Rect& area, double sigma);
 
+// Antialiases a hard edge in `image` within `mask` (8-bit): each pixel whose
+// centre lies within half a pixel of the edge (`edge_distance`, CV_32F, the
+// signed distance in pixels, its sign telling the sides) is mixed with its
+// 4-neighbours across it by how much of the pixel lies on each side.
+cv::Mat MixedAcrossEdge(const cv::Mat& image, const cv::Mat& mask, const cv::Mat& edge_distance);
+
 // The colour of `image`'s pixels in `shown` (8-bit mask) near each pixel of
 // `area`: they are blurred by `sigma` pixels and normalised by how many are
 // near, drawn toward `typical` where few are (and `typical` outside `area`).

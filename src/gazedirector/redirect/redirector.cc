@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/redirect/eye_colour_match.h"
 #include "gazedirector/redirect/eye_image.h"
 #include "gazedirector/redirect/glints.h"
@@ -58,6 +59,49 @@ void MirrorEyeballSources(const std::array<Eigen::MatrixXf, kNumParts>& sources,
       mirrors[part].block<2, 1>(4, v) = sources[part].col(across_z[across_x[v]]);
     }
   }
+}
+
+// Per vertex of each posed eyeball: how far its (refracted) texture
+// coordinate is from the iris's centre, in limbus radii: 1 on the edge of the
+// rendered iris.
+void LimbusRadii(const PosedModel& posed, std::array<Eigen::MatrixXf, kNumParts>& out) {
+  for (int part = 0; part < kNumParts; ++part) {
+    if (!IsEyeball(part)) {
+      out[part].resize(0, 0);
+      continue;
+    }
+    const Eigen::Matrix2Xf& uvs = posed.parts[part].uvs;
+    out[part] = ((uvs.array() - 0.5f).matrix().colwise().norm() / static_cast<float>(topology::kLimbusUvRadius)).eval();
+  }
+}
+
+// The signed distance in pixels from each eyeball pixel of `target` to the
+// rendered iris's edge (positive on the sclera), from the interpolated limbus
+// radius and its gradient; +-kFar where the field is flat.
+cv::Mat LimbusDistance(const RenderBuffers& target, const cv::Mat& radius) {
+  constexpr float kFar = 1e3f;
+  const int width = target.width(), height = target.height();
+  cv::Mat distance(height, width, CV_32F, cv::Scalar(kFar));
+  // The radius's change per pixel along one axis: central where both
+  // neighbours show the same eyeball, one-sided where one does.
+  auto slope = [&](int pixel, int x, int y, int dx, int dy) {
+    const int part = target.PartAt(pixel);
+    const bool before = x - dx >= 0 && y - dy >= 0 && target.PartAt(pixel - dx - dy * width) == part;
+    const bool after = x + dx < width && y + dy < height && target.PartAt(pixel + dx + dy * width) == part;
+    const float here = radius.at<float>(y, x);
+    if (before && after) return 0.5f * (radius.at<float>(y + dy, x + dx) - radius.at<float>(y - dy, x - dx));
+    if (after) return radius.at<float>(y + dy, x + dx) - here;
+    if (before) return here - radius.at<float>(y - dy, x - dx);
+    return 0.0f;
+  };
+  for (int pixel : target.foreground) {
+    if (!IsEyeball(target.PartAt(pixel))) continue;
+    const int x = pixel % width, y = pixel / width;
+    const float beyond = radius.at<float>(y, x) - 1;
+    const float gradient = std::hypot(slope(pixel, x, y, 1, 0), slope(pixel, x, y, 0, 1));
+    distance.at<float>(y, x) = gradient > 1e-6f ? beyond / gradient : std::copysign(kFar, beyond);
+  }
+  return distance;
 }
 
 int CountPart(const RenderBuffers& buffers, int part) {
@@ -305,18 +349,37 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
   return layers;
 }
 
+// The rendering's colours matched to the photo's (sclera: as the photo's
+// sclera nearby, `photo_sclera`) over `eyeball_mask`. The match switches from
+// the iris's colours to the sclera's at the rendered iris's edge
+// (`limbus_distance`), which a per-pixel choice alone would draw as steps:
+// it is antialiased.
+cv::Mat MatchedRendering(const EyeballTransfer& transfer, const cv::Mat& eyeball_mask, const cv::Mat& limbus_distance,
+                         const cv::Mat& photo_sclera) {
+  cv::Mat matched(eyeball_mask.size(), CV_32FC3, cv::Scalar::all(0));
+  for (int y = 0; y < matched.rows; ++y) {
+    for (int x = 0; x < matched.cols; ++x) {
+      if (!eyeball_mask.at<uchar>(y, x)) continue;
+      const bool sclera = limbus_distance.at<float>(y, x) > 0;
+      const cv::Vec3f nearby_sclera =
+          sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
+      matched.at<cv::Vec3f>(y, x) = transfer.colours.Match(transfer.rendered.at<cv::Vec3f>(y, x), sclera, nearby_sclera);
+    }
+  }
+  return MixedAcrossEdge(matched, eyeball_mask, limbus_distance);
+}
+
 // The new eyeballs over the warped photo: the photo's share (`transfer`)
-// feathered into the rendering matched to the photo's colours (sclera: as
-// the photo's sclera nearby, `photo_sclera`) and reflections added (`gain` x
-// `specular`); where the mask is thinner than about `seam` pixels (the
-// corners) the warped photo shows through. The photo's share is
+// feathered into the matched rendering (`matched`) and reflections added
+// (`gain` x `specular`); where the mask is thinner than about `seam` pixels
+// (the corners) the warped photo shows through. The photo's share is
 // blurred by `feather` within the eyeball mask (normalised), so that the
 // mask's own edge, where the photo continues outside, does not fade into the
 // rendering. `eyeball_layer` gets the eyeballs' colours before the seam;
 // `recipe` (when given) how each was made.
 cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, const cv::Rect& eyeballs_area,
-                          const EyeballTransfer& transfer, const cv::Mat& cornea, const cv::Mat& photo_sclera,
-                          double gain, const cv::Mat& specular, double feather, double seam, cv::Mat& eyeball_layer,
+                          const EyeballTransfer& transfer, const cv::Mat& matched, double gain,
+                          const cv::Mat& specular, double feather, double seam, cv::Mat& eyeball_layer,
                           CompositeRecipe* recipe) {
   cv::Mat transfer_weight, eyeball_weight, eyeball_share, seam_alpha;
   transfer.transfer_mask.convertTo(transfer_weight, CV_32F, 1.0 / 255);
@@ -337,12 +400,8 @@ cv::Mat CompositeEyeballs(const cv::Mat& warped, const cv::Mat& eyeball_mask, co
     for (int x = 0; x < warped.cols; ++x) {
       if (!eyeball_mask.at<uchar>(y, x)) continue;
       const float w = transfer.transfer_mask.at<uchar>(y, x) ? transfer_weight.at<float>(y, x) : 0.0f;
-      const cv::Vec3f plain = transfer.rendered.at<cv::Vec3f>(y, x);
-      const bool sclera = IsSclera(cornea, x, y);
-      const cv::Vec3f nearby_sclera =
-          sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
       const cv::Vec3f photo_part = w * transfer.transferred.at<cv::Vec3f>(y, x);
-      cv::Vec3f colour = photo_part + (1 - w) * transfer.colours.Match(plain, sclera, nearby_sclera);
+      cv::Vec3f colour = photo_part + (1 - w) * matched.at<cv::Vec3f>(y, x);
       if (gain > 0) colour += static_cast<float>(gain) * specular.at<cv::Vec3f>(y, x);
       eyeball_layer.at<cv::Vec3f>(y, x) = colour;
       const float a = std::min(1.0f, 2.0f * seam_alpha.at<float>(y, x));
@@ -663,9 +722,13 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
           : cv::Mat();
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);
+  LimbusRadii(target_renderer_.posed(), limbus_radii_);
+  const cv::Mat limbus_distance =
+      LimbusDistance(target_buffers_, Renderer::InterpolateAttribute(target_buffers_, *model_, limbus_radii_, 1));
+  const cv::Mat matched = MatchedRendering(transfer, eyeball_mask, limbus_distance, photo_sclera);
   cv::Mat eyeball_layer;
-  cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, cornea, photo_sclera, gain,
-                                  new_specular, feather, seam, eyeball_layer, recipe);
+  cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, matched, gain, new_specular, feather,
+                                  seam, eyeball_layer, recipe);
   // The seam is softened, then the glints are added, so that it does not
   // smear those next to the lids. (A recipe is followed at full size first.)
   if (recipe == nullptr) BlurSeam(out, eyeball_mask, eyeballs_area, seam);
