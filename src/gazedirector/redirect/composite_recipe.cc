@@ -126,7 +126,9 @@ cv::Mat FollowRecipe(const CompositeRecipe& recipe, const cv::Mat& photo, double
       cv::Vec3f highlight;
       if (share > 0 && BlendFetch(recipe.photo_source, around, p, shared, source)) {
         Blend(recipe.highlight, around, shared, highlight);
-        const cv::Vec3f value = surface_at(source) - highlight;
+        float gain = 1;
+        if (!recipe.photo_gain.empty()) Blend(recipe.photo_gain, around, shared, gain);
+        const cv::Vec3f value = gain * (surface_at(source) - highlight);
         colour += share * cv::Vec3f(std::max(0.0f, value[0]), std::max(0.0f, value[1]), std::max(0.0f, value[2]));
       }
       out.at<cv::Vec3f>(y, x) = alpha * colour + (1 - alpha) * warped;

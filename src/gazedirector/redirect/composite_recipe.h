@@ -17,6 +17,7 @@ struct CompositeRecipe {
   cv::Mat photo_source;   // CV_32FC2: where an eyeball pixel's photo share comes from
   cv::Mat photo_share;    // CV_32F: that share of its colour
   cv::Mat highlight;      // CV_32FC3: taken off the photo's share (the old reflections there)
+  cv::Mat photo_gain;     // CV_32F: then multiplying it (relit sclera); empty: 1
   cv::Mat rest;           // CV_32FC3: its colour besides the photo's share (rendering, reflections)
   cv::Mat seam_alpha;     // CV_32F: the eyeball's weight over the warped photo
   cv::Mat glints;         // CV_32FC3: the moved glints, added after the seam is softened (may be empty)

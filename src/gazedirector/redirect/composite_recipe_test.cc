@@ -70,5 +70,21 @@ TEST(CompositeRecipeTest, ARenderedEyeballFillsItsMaskAndTheRestIsKept) {
   EXPECT_LT(cv::norm(out, photo, cv::NORM_INF, outside), 1e-3);
 }
 
+// Relit sclera: the photo's share is multiplied by the recipe's gain,
+// after its old reflections are taken off.
+TEST(CompositeRecipeTest, ThePhotosShareIsRelitByTheRecipesGain) {
+  const cv::Mat photo = Photo();
+  CompositeRecipe recipe = Identity(photo.size() / 2);
+  recipe.photo_gain = cv::Mat(recipe.region.size(), CV_32F, cv::Scalar(0.75f));
+  recipe.highlight.setTo(cv::Scalar::all(0.05f));
+  const cv::Mat out = FollowRecipe(recipe, photo, 2, 2);
+  const cv::Rect small_block = cv::boundingRect(recipe.eyeball_mask);
+  const cv::Rect inner(small_block.x * 2 + 2, small_block.y * 2 + 2, small_block.width * 2 - 4,
+                       small_block.height * 2 - 4);
+  cv::Mat expected = 0.75f * (photo(inner) - cv::Scalar::all(0.05f));
+  expected = cv::max(expected, 0.0f);
+  EXPECT_LT(cv::norm(out(inner), expected, cv::NORM_INF), 1e-3);
+}
+
 }  // namespace
 }  // namespace gazedirector

@@ -22,6 +22,14 @@ constexpr float kFresnel = 0.028f;
 // would travel with the iris. Fainter reflections are subtracted instead.
 constexpr float kHighlight = 0.06f;
 
+// Reused sclera takes the model's change of shading from where it was to
+// where it is, within this range: more light is allowed less, since the
+// model's lid shadow is only a rough guess and photo sclera brightened
+// past its clearest parts reads as a white patch. Fit renderings darker than
+// kDarkestRelit (luminance) say too little to divide by.
+constexpr std::array<float, 2> kRelightRange = {0.6f, 1.1f};
+constexpr float kDarkestRelit = 0.02f;
+
 // Projections of every posed vertex of `parts` into `camera`: the rasterized
 // attribute that says where a surface point was in the photo.
 void ProjectParts(const PosedModel& posed, const Camera& camera, std::array<bool, kNumParts> parts,
@@ -115,6 +123,16 @@ cv::Vec3f RenderedBgr(const RenderBuffers& buffers, std::size_t i) {
   return {buffers.colour(row, 2), buffers.colour(row, 1), buffers.colour(row, 0)};
 }
 
+// The luminance of `buffers`' rendering (CV_32F, 0 off the foreground).
+cv::Mat RenderedLuminance(const RenderBuffers& buffers) {
+  cv::Mat luminance(buffers.height(), buffers.width(), CV_32F, cv::Scalar(0));
+  for (std::size_t i = 0; i < buffers.foreground.size(); ++i) {
+    luminance.at<float>(buffers.foreground[i] / buffers.width(), buffers.foreground[i] % buffers.width()) =
+        Luminance(RenderedBgr(buffers, i));
+  }
+  return luminance;
+}
+
 // The pixel a sub-pixel position falls in.
 cv::Point NearestPixel(const cv::Vec2f& position) {
   return {static_cast<int>(std::lround(position[0])), static_cast<int>(std::lround(position[1]))};
@@ -161,6 +179,7 @@ struct EyeballTransfer {
   cv::Mat moved_by;               // how far its source was, in pixels
   cv::Mat source;                 // where it came from (CV_32FC2), when kept for a recipe
   cv::Mat highlight;              // the old reflections taken off it there (CV_32FC3), likewise
+  cv::Mat gain;                   // and the relighting it was then given (CV_32F), likewise
   EyeColourMatch colours;
 
   EyeballTransfer(cv::Size size, bool keep_sources)
@@ -172,6 +191,7 @@ struct EyeballTransfer {
     if (keep_sources) {
       source = cv::Mat(size, CV_32FC2, cv::Scalar::all(0));
       highlight = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
+      gain = cv::Mat(size, CV_32F, cv::Scalar(1));
     }
   }
 };
@@ -189,6 +209,7 @@ struct TransferInputs {
   double gain;                   // the chosen environment's reflections on the fitted eyes: gain x old_specular
   const cv::Mat& old_specular;
   std::array<float, 2> slit;     // per eye, how much it is a slit of lashes (0-1)
+  const cv::Mat& fitted_luminance;  // the fit's rendering's luminance (CV_32F)
 };
 
 // The new eyeballs (`target`): the rendering everywhere, and the photo's own
@@ -233,6 +254,14 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
       found = usable(s);
     }
     if (!found) continue;
+    // Sclera is lit as the model lights it here, not where it was: lid
+    // shadow moves with the lids, and a mirror image was on the other side of
+    // the eyeball (s42.jpg turned aside: her bright temporal sclera drew
+    // light streaks in the shade of her nasal sclera).
+    const float there = in.fitted_luminance.at<float>(NearestPixel(s));
+    const float relight = sclera && there > kDarkestRelit
+                              ? std::clamp(Luminance(colour) / there, kRelightRange[0], kRelightRange[1])
+                              : 1.0f;
     // The photo's surface without the faint reflections the chosen
     // environment explains there: the re-posed eye gets its own.
     cv::Vec3f value = Bilinear(in.surface, s[0], s[1]);
@@ -241,7 +270,9 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
       if (keep_sources) transfer.highlight.at<cv::Vec3f>(y, x) = old_highlight;
     }
+    value *= relight;
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
+    if (keep_sources) transfer.gain.at<float>(y, x) = relight;
     if (keep_sources) transfer.source.at<cv::Vec2f>(y, x) = s;
     if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
@@ -707,9 +738,10 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));
+  const cv::Mat fitted_luminance = RenderedLuminance(fitted_buffers_);
   EyeballTransfer transfer = TransferEyeballs(
       fitted_buffers_, target_buffers_,
-      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit},
+      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit, fitted_luminance},
       options_.transfer_eyeballs, recipe != nullptr);
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
@@ -745,6 +777,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
     recipe->eyeball_mask = eyeball_mask;
     recipe->photo_source = transfer.source;
     recipe->highlight = transfer.highlight;
+    recipe->photo_gain = transfer.gain;
     recipe->glints = moved_glints;
     if (!glints.surface.empty()) {
       recipe->surface = glints.surface;

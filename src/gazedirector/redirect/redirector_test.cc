@@ -449,12 +449,14 @@ TEST(RedirectorTest, APhotoFourTimesLargerIsRedirectedAsThePhotoItself) {
   };
   const auto [mean, off] = redirect_large(RedirectOptions().working_interocular_px);
   // The working sizes differ (85.7 and 150 px), and an iris edge a pixel
-  // apart differs by far more than 40 levels: 10.8 levels and 4.6% now.
+  // apart differs by far more than 40 levels: 8.8 levels and 2.7% now (10.8
+  // and 4.6% before reused sclera was relit, session 64).
   EXPECT_LT(mean, 15);
   EXPECT_LT(off, 0.1);
-  // The whole redirection at the large size: 16.2 levels, 14.3%.
+  // The whole redirection at the large size: 10.4 levels, 4.3% (16.2 and
+  // 14.3% before the relighting).
   const auto [mean_at_size, off_at_size] = redirect_large(1e9);
-  EXPECT_GT(off_at_size, 2 * off);
+  EXPECT_GT(off_at_size, 1.3 * off);
 }
 
 TEST(RedirectorTest, TheEyelidWarpFollowsTheGaze) {
