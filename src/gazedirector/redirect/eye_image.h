@@ -13,7 +13,9 @@ inline float Luminance(const cv::Vec3f& bgr) { return 0.114f * bgr[0] + 0.587f *
 cv::Vec3f Bilinear(const cv::Mat& image, float x, float y);
 
 // An eyeball pixel shows sclera where its cornea flag, interpolated across
-// the limbus (Renderer::CorneaAttribute), is under this; else the iris.
+// the limbus (Renderer::CorneaAttribute), is under this; else the iris. (The
+// rendering's colours switch at the texture's iris edge instead, about half
+// a millimetre further in, antialiased: see MixedAcrossEdge.)
 inline constexpr float kLimbus = 0.5f;
 inline bool IsSclera(const cv::Mat& cornea, int x, int y) { return cornea.at<float>(y, x) < kLimbus; }
 

@@ -179,7 +179,7 @@ struct EyeballTransfer {
   cv::Mat moved_by;               // how far its source was, in pixels
   cv::Mat source;                 // where it came from (CV_32FC2), when kept for a recipe
   cv::Mat highlight;              // the old reflections taken off it there (CV_32FC3), likewise
-  cv::Mat gain;                   // and the relighting it was then given (CV_32F), likewise
+  cv::Mat relit_by;               // and the factor it was relit by (CV_32F), likewise
   EyeColourMatch colours;
 
   EyeballTransfer(cv::Size size, bool keep_sources)
@@ -191,7 +191,7 @@ struct EyeballTransfer {
     if (keep_sources) {
       source = cv::Mat(size, CV_32FC2, cv::Scalar::all(0));
       highlight = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
-      gain = cv::Mat(size, CV_32F, cv::Scalar(1));
+      relit_by = cv::Mat(size, CV_32F, cv::Scalar(1));
     }
   }
 };
@@ -272,7 +272,7 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     }
     value *= relight;
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
-    if (keep_sources) transfer.gain.at<float>(y, x) = relight;
+    if (keep_sources) transfer.relit_by.at<float>(y, x) = relight;
     if (keep_sources) transfer.source.at<cv::Vec2f>(y, x) = s;
     if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
@@ -394,7 +394,8 @@ cv::Mat MatchedRendering(const EyeballTransfer& transfer, const cv::Mat& eyeball
       const bool sclera = limbus_distance.at<float>(y, x) > 0;
       const cv::Vec3f nearby_sclera =
           sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
-      matched.at<cv::Vec3f>(y, x) = transfer.colours.Match(transfer.rendered.at<cv::Vec3f>(y, x), sclera, nearby_sclera);
+      matched.at<cv::Vec3f>(y, x) =
+          transfer.colours.Match(transfer.rendered.at<cv::Vec3f>(y, x), sclera, nearby_sclera);
     }
   }
   return MixedAcrossEdge(matched, eyeball_mask, limbus_distance);
@@ -741,7 +742,8 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   const cv::Mat fitted_luminance = RenderedLuminance(fitted_buffers_);
   EyeballTransfer transfer = TransferEyeballs(
       fitted_buffers_, target_buffers_,
-      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit, fitted_luminance},
+      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit,
+       fitted_luminance},
       options_.transfer_eyeballs, recipe != nullptr);
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
@@ -777,7 +779,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
     recipe->eyeball_mask = eyeball_mask;
     recipe->photo_source = transfer.source;
     recipe->highlight = transfer.highlight;
-    recipe->photo_gain = transfer.gain;
+    recipe->photo_gain = transfer.relit_by;
     recipe->glints = moved_glints;
     if (!glints.surface.empty()) {
       recipe->surface = glints.surface;
