@@ -6,10 +6,10 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
-#include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/redirect/eye_colour_match.h"
 #include "gazedirector/redirect/eye_image.h"
 #include "gazedirector/redirect/glints.h"
+#include "gazedirector/render/limbus_distance.h"
 #include "gazedirector/render/model_bounds.h"
 
 namespace gazedirector {
@@ -67,49 +67,6 @@ void MirrorEyeballSources(const std::array<Eigen::MatrixXf, kNumParts>& sources,
       mirrors[part].block<2, 1>(4, v) = sources[part].col(across_z[across_x[v]]);
     }
   }
-}
-
-// Per vertex of each posed eyeball: how far its (refracted) texture
-// coordinate is from the iris's centre, in limbus radii: 1 on the edge of the
-// rendered iris.
-void LimbusRadii(const PosedModel& posed, std::array<Eigen::MatrixXf, kNumParts>& out) {
-  for (int part = 0; part < kNumParts; ++part) {
-    if (!IsEyeball(part)) {
-      out[part].resize(0, 0);
-      continue;
-    }
-    const Eigen::Matrix2Xf& uvs = posed.parts[part].uvs;
-    out[part] = ((uvs.array() - 0.5f).matrix().colwise().norm() / static_cast<float>(topology::kLimbusUvRadius)).eval();
-  }
-}
-
-// The signed distance in pixels from each eyeball pixel of `target` to the
-// rendered iris's edge (positive on the sclera), from the interpolated limbus
-// radius and its gradient; +-kFar where the field is flat.
-cv::Mat LimbusDistance(const RenderBuffers& target, const cv::Mat& radius) {
-  constexpr float kFar = 1e3f;
-  const int width = target.width(), height = target.height();
-  cv::Mat distance(height, width, CV_32F, cv::Scalar(kFar));
-  // The radius's change per pixel along one axis: central where both
-  // neighbours show the same eyeball, one-sided where one does.
-  auto slope = [&](int pixel, int x, int y, int dx, int dy) {
-    const int part = target.PartAt(pixel);
-    const bool before = x - dx >= 0 && y - dy >= 0 && target.PartAt(pixel - dx - dy * width) == part;
-    const bool after = x + dx < width && y + dy < height && target.PartAt(pixel + dx + dy * width) == part;
-    const float here = radius.at<float>(y, x);
-    if (before && after) return 0.5f * (radius.at<float>(y + dy, x + dx) - radius.at<float>(y - dy, x - dx));
-    if (after) return radius.at<float>(y + dy, x + dx) - here;
-    if (before) return here - radius.at<float>(y - dy, x - dx);
-    return 0.0f;
-  };
-  for (int pixel : target.foreground) {
-    if (!IsEyeball(target.PartAt(pixel))) continue;
-    const int x = pixel % width, y = pixel / width;
-    const float beyond = radius.at<float>(y, x) - 1;
-    const float gradient = std::hypot(slope(pixel, x, y, 1, 0), slope(pixel, x, y, 0, 1));
-    distance.at<float>(y, x) = gradient > 1e-6f ? beyond / gradient : std::copysign(kFar, beyond);
-  }
-  return distance;
 }
 
 int CountPart(const RenderBuffers& buffers, int part) {
@@ -756,9 +713,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
           : cv::Mat();
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);
-  LimbusRadii(target_renderer_.posed(), limbus_radii_);
-  const cv::Mat limbus_distance =
-      LimbusDistance(target_buffers_, Renderer::InterpolateAttribute(target_buffers_, *model_, limbus_radii_, 1));
+  const cv::Mat limbus_distance = LimbusDistance(target_buffers_, *model_, target_renderer_.posed());
   const cv::Mat matched = MatchedRendering(transfer, eyeball_mask, limbus_distance, photo_sclera);
   cv::Mat eyeball_layer;
   cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, matched, gain, new_specular, feather,

@@ -143,7 +143,6 @@ class Redirector {
   std::array<Eigen::MatrixXf, kNumParts> sources_;
   std::array<Eigen::MatrixXf, kNumParts> mirrors_;
   std::array<Eigen::MatrixXf, kNumParts> cornea_flags_;  // per eyeball vertex: 1 on the cornea (the iris shows), else 0
-  std::array<Eigen::MatrixXf, kNumParts> limbus_radii_;  // per eyeball vertex: its uv's distance from the iris centre
 };
 
 // Flow (CV_32FC2) as a picture: hue is direction, saturation is length
