@@ -30,6 +30,12 @@ constexpr float kHighlight = 0.06f;
 constexpr std::array<float, 2> kRelightRange = {0.6f, 1.1f};
 constexpr float kDarkestRelit = 0.02f;
 
+// What reused sclera is multiplied by where the re-posed model renders it
+// at luminance `here` and the fit rendered it at `there`.
+float RelightFactor(float here, float there) {
+  return there > kDarkestRelit ? std::clamp(here / there, kRelightRange[0], kRelightRange[1]) : 1.0f;
+}
+
 // Projections of every posed vertex of `parts` into `camera`: the rasterized
 // attribute that says where a surface point was in the photo.
 void ProjectParts(const PosedModel& posed, const Camera& camera, std::array<bool, kNumParts> parts,
@@ -215,10 +221,8 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     // shadow moves with the lids, and a mirror image was on the other side of
     // the eyeball (s42.jpg turned aside: her bright temporal sclera drew
     // light streaks in the shade of her nasal sclera).
-    const float there = in.fitted_luminance.at<float>(NearestPixel(s));
-    const float relight = sclera && there > kDarkestRelit
-                              ? std::clamp(Luminance(colour) / there, kRelightRange[0], kRelightRange[1])
-                              : 1.0f;
+    const float relight = sclera ? RelightFactor(Luminance(colour), in.fitted_luminance.at<float>(NearestPixel(s)))
+                                 : 1.0f;
     // The photo's surface without the faint reflections the chosen
     // environment explains there: the re-posed eye gets its own.
     cv::Vec3f value = Bilinear(in.surface, s[0], s[1]);
@@ -229,8 +233,10 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     }
     value *= relight;
     transfer.transferred.at<cv::Vec3f>(y, x) = value;
-    if (keep_sources) transfer.relit_by.at<float>(y, x) = relight;
-    if (keep_sources) transfer.source.at<cv::Vec2f>(y, x) = s;
+    if (keep_sources) {
+      transfer.source.at<cv::Vec2f>(y, x) = s;
+      transfer.relit_by.at<float>(y, x) = relight;
+    }
     if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
