@@ -211,8 +211,13 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     };
     cv::Vec2f s = in.source.at<cv::Vec2f>(y, x);
     bool found = usable(s);
+    // Within the margin band only the mirror image across the vertical plane
+    // serves: it stays under the same lid, whose lashes shade it alike. One
+    // across the horizontal plane brings the other lid's light (s42.jpg
+    // turned aside: a dotted bright line under her upper lashes).
+    const bool in_margin = in.target_depth.at<float>(y, x) < in.margin_px;
     const cv::Vec6f& mirrors = in.mirror_source.at<cv::Vec6f>(y, x);
-    for (int k = 0; k < 3 && !found; ++k) {
+    for (int k = 0; k < (in_margin ? 1 : 3) && !found; ++k) {
       s = {mirrors[2 * k], mirrors[2 * k + 1]};
       found = usable(s);
     }
