@@ -89,8 +89,9 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
 }
 
 // The cores of one eye's glints: spots on the fitted iris that stand out of
-// their surroundings and are mostly surrounded by dark iris (the sclera
-// beside an iris the fit missed by a little is not). A spot whose peak
+// their surroundings, lie mostly off its outermost pixels and are mostly
+// surrounded by dark iris (the sclera beside an iris the fit missed by a
+// little is neither). A spot whose peak
 // outshines all of the sclera brings the whole bright patch it lies in, on
 // the iris or just beside it; a small one (at most 3% of the iris, as
 // compressed video leaves a glint) is a glint if it is brighter than the
@@ -113,8 +114,15 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
     cv::dilate(area, halo, around);
     return MedianUnder(luminance, ring & eye.eyeball & ~halo, -1);
   };
+  // Light along the fitted iris's outermost pixels is the photo's sclera
+  // that a fitted iris a pixel beside the photo's covers (Columbia 0004's
+  // left eye: moved as a glint, a thin bright crescent across the new sclera).
+  cv::Mat inner_iris;
+  cv::erode(eye.iris, inner_iris, cv::Mat());
+  const cv::Mat iris_edge = eye.iris & ~inner_iris;
   for (int label = 1; label < spot_count; ++label) {
     const cv::Mat spot = spot_labels == label;
+    if (2 * cv::countNonZero(spot & iris_edge) > cv::countNonZero(spot)) continue;
     double peak = 0;
     cv::Point brightest;
     cv::minMaxLoc(luminance, nullptr, &peak, nullptr, &brightest, spot);
