@@ -330,6 +330,7 @@ TEST(RedirectorTest, ScleraUnderTheUpperLashesStaysInTheirShade) {
 // was moved with the cornea and drawn across the new sclera (looking 10
 // degrees down / up: 66 / 70 pixels given over 40 grey levels of light, up
 // to 120 / 125); the photo shows no glint, and none is added now (at most 15).
+// (An L crop shows the eye the model calls its right, ColumbiaCrop::ModelEye.)
 TEST(RedirectorTest, ScleraAlongTheFittedIrissEdgeIsNotMovedAsAGlint) {
   const cv::Mat crop = ReadImage(testing::DataPath("columbia-eyes/0004_2m_0P_0V_0H_L.jpg"));
   Fitter fitter(SharedModel());
