@@ -693,6 +693,10 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
       moved_glints = MovedGlints(glints, GlintShifts(fitted, posed_target, crop_camera), target_buffers_);
     }
     if (gain > 0) KeepFaintReflections(new_specular, target_buffers_, static_cast<float>(kHighlight / gain));
+    // A filled glint has lost its light already; taking the environment's
+    // highlight there off it again would leave a dark rim beside the moved
+    // glint (s42.jpg at the camera: a black dash under it).
+    if (gain > 0 && !glints.filled.empty()) old_specular.setTo(cv::Scalar::all(0), glints.filled);
   }
 
   // The new eyeballs.
