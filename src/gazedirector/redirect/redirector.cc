@@ -13,6 +13,24 @@
 #include "gazedirector/render/model_bounds.h"
 
 namespace gazedirector {
+// The photo's highlights on the fitted eyes, and what stands in for them on
+// the new ones.
+struct Highlights {
+  int environment = -1;  // the environment map chosen
+  double gain = 0;       // of its reflections (none: 0)
+  cv::Mat old_specular;  // its reflections on the fitted eyes, before the gain (none where glints were filled in)
+  cv::Mat new_specular;  // and on the new ones, faint only where the photo's glints move
+  Glints glints;         // the photo's own glints, filled in
+  cv::Mat moved_glints;  // what they add, moved with the corneas (empty if none)
+
+  // All that is added to the new eyeballs (CV_32FC3; empty if nothing).
+  cv::Mat Added() const {
+    cv::Mat added = gain > 0 ? cv::Mat(new_specular * gain) : cv::Mat();
+    if (!moved_glints.empty()) added = added.empty() ? moved_glints : cv::Mat(added + moved_glints);
+    return added;
+  }
+};
+
 namespace {
 
 // The cornea's reflectance at normal incidence (water-like, n = 1.376).
@@ -425,6 +443,22 @@ cv::Mat GlintFill(const cv::Mat& filled) {
   return fill;
 }
 
+// Writes into `recipe` how each pixel of `region` was made.
+void FillRecipe(const cv::Rect& region, const EyelidWarp& warp, const EyeballTransfer& transfer,
+                const Highlights& highlights, CompositeRecipe& recipe) {
+  recipe.region = region;
+  recipe.skin_source = warp.map;
+  recipe.eyeball_mask = warp.eyeball_mask;
+  recipe.photo_source = transfer.source;
+  recipe.highlight = transfer.highlight;
+  recipe.photo_gain = transfer.relit_by;
+  recipe.glints = highlights.moved_glints;
+  if (!highlights.glints.surface.empty()) {
+    recipe.surface = highlights.glints.surface;
+    recipe.glint_fill = GlintFill(highlights.glints.filled);
+  }
+}
+
 // `rect` of an image resized by `scale_x` x `scale_y`: the pixels it covers there.
 cv::Rect Enlarged(const cv::Rect& rect, double scale_x, double scale_y) {
   const cv::Point top_left(static_cast<int>(std::floor(rect.x * scale_x)),
@@ -626,33 +660,13 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
                                               const Parameters& target, RedirectLayers* layers,
                                               CompositeRecipe* recipe) {
   RedirectReport report;
-  if (fitted.eyelid_closure() > options_.max_closure_deg) {
-    report.note = fmt::format("eyes closed (lid closure {:.0f} deg)", fitted.eyelid_closure());
-    return report;
-  }
   const Parameters posed_target = PosedTarget(fitted, target);
-  fitted_renderer_.set_eyes(true, true);
-  fitted_renderer_.Pose(fitted);
-  target_renderer_.Pose(posed_target);
-  const cv::Rect region = (ModelBounds(fitted_renderer_.posed(), camera, 0.02) |
-                           ModelBounds(target_renderer_.posed(), camera, 0.02)) & cv::Rect(0, 0, image.cols, image.rows);
-  if (region.width < 8 || region.height < 4) {
-    report.note = "the eyes are outside the image";
-    return report;
-  }
-  const Camera crop_camera = camera.Cropped(region.x, region.y, region.width, region.height);
-  fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
-  fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
-  const std::array<bool, 2> eyes = OpenEyes(fitted, crop_camera, report.note);
-  if (!eyes[0] && !eyes[1]) return report;
-  const std::array<float, 2> slit = SlitShares(fitted, crop_camera);
-  if (!eyes[0] || !eyes[1]) {  // only the open eye's parts from here on
-    fitted_renderer_.set_eyes(eyes[0], eyes[1]);
-    fitted_renderer_.Rasterize(crop_camera, fitted_buffers_);
-    fitted_renderer_.Shade(fitted, crop_camera, fitted_buffers_);
-  }
-  target_renderer_.set_eyes(eyes[0], eyes[1]);
-  target_renderer_.Render(posed_target, crop_camera, target_buffers_);
+  const std::optional<EyeRegionView> view = RenderBoth(image.size(), camera, fitted, posed_target, report.note);
+  if (!view) return report;
+  const cv::Rect& region = view->region;
+  const Camera& crop_camera = view->camera;
+  const std::array<bool, 2>& eyes = view->eyes;
+  const std::array<float, 2>& slit = view->slit;
   cv::Mat photo;
   image(region).convertTo(photo, CV_32FC3, 1.0 / 255);
 
@@ -670,37 +684,13 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   cv::Mat warped;
   cv::remap(photo, warped, warp.map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
 
-  // Reflections: the environment that explains the photo's highlights.
-  const auto& maps = BuiltInEnvironmentMaps();
-  const bool fixed = options_.environment >= 0 && options_.environment < static_cast<int>(maps.size());
-  double gain = 0;
-  int environment = fixed ? options_.environment : -1;
-  cv::Mat old_specular, new_specular;
-  if (options_.specular) {
-    environment = ChooseEnvironment(photo, crop_camera, fixed ? options_.environment : -1, gain, old_specular);
-  }
-  report.environment = environment;
-  report.specular_gain = gain;
-  if (gain > 0) Reflections(target_renderer_, target_buffers_, crop_camera, maps[environment], new_specular);
-  // The photo's own glints, moved as the corneas move, stand in for the
-  // environment's strong reflections (its faint ones stay).
-  Glints glints;
-  cv::Mat moved_glints;
   const cv::Mat fitted_cornea = Renderer::InterpolateAttribute(fitted_buffers_, *model_, cornea_flags_, 1);
-  if (options_.move_glints && options_.transfer_eyeballs) {
-    glints = FindGlints(photo, fitted_buffers_, fitted_cornea);
-    if (glints.found[0] || glints.found[1]) {
-      moved_glints = MovedGlints(glints, GlintShifts(fitted, posed_target, crop_camera), target_buffers_);
-    }
-    if (gain > 0) KeepFaintReflections(new_specular, target_buffers_, static_cast<float>(kHighlight / gain));
-    // A filled glint has lost its light already; taking the environment's
-    // highlight there off it again would leave a dark rim beside the moved
-    // glint (s42.jpg at the camera: a black dash under it).
-    if (gain > 0 && !glints.filled.empty()) old_specular.setTo(cv::Scalar::all(0), glints.filled);
-  }
+  const Highlights highlights = FindHighlights(photo, crop_camera, fitted, posed_target, fitted_cornea);
+  report.environment = highlights.environment;
+  report.specular_gain = highlights.gain;
 
-  // The new eyeballs.
-  const cv::Mat& surface = glints.surface.empty() ? photo : glints.surface;  // moved glints come on their own
+  // The new eyeballs; the moved glints come on their own.
+  const cv::Mat& surface = highlights.glints.surface.empty() ? photo : highlights.glints.surface;
   const cv::Mat cornea = Renderer::InterpolateAttribute(target_buffers_, *model_, cornea_flags_, 1);
   // How deep inside its eye opening each pixel is (pixels from the lids), in
   // the photo's fit and in the re-posed model. Surface the photo showed at
@@ -714,8 +704,8 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   const cv::Mat fitted_luminance = RenderedLuminance(fitted_buffers_);
   EyeballTransfer transfer = TransferEyeballs(
       fitted_buffers_, target_buffers_,
-      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, gain, old_specular, slit,
-       fitted_luminance},
+      {surface, source, mirror_source, cornea, source_depth, target_depth, margin_px, highlights.gain,
+       highlights.old_specular, slit, fitted_luminance},
       options_.transfer_eyeballs, recipe != nullptr);
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
@@ -731,38 +721,85 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   const cv::Mat limbus_distance = LimbusDistance(target_buffers_, *model_, target_renderer_.posed());
   const cv::Mat matched = MatchedRendering(transfer, eyeball_mask, limbus_distance, photo_sclera);
   cv::Mat eyeball_layer;
-  cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, matched, gain, new_specular, feather,
-                                  seam, eyeball_layer, recipe);
+  cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, matched, highlights.gain,
+                                  highlights.new_specular, feather, seam, eyeball_layer, recipe);
   // The seam is softened, then the glints are added, so that it does not
   // smear those next to the lids. (A recipe is followed at full size first.)
   if (recipe == nullptr) BlurSeam(out, eyeball_mask, eyeballs_area, seam);
-  if (!moved_glints.empty()) {
-    if (recipe == nullptr) out += moved_glints;
-    eyeball_layer += moved_glints;
+  if (!highlights.moved_glints.empty()) {
+    if (recipe == nullptr) out += highlights.moved_glints;
+    eyeball_layer += highlights.moved_glints;
   }
   out.convertTo(image(region), CV_8UC3, 255.0);
   report.redirected = eyes;
   report.region = region;
-  if (recipe != nullptr) {
-    recipe->region = region;
-    recipe->skin_source = warp.map;
-    recipe->eyeball_mask = eyeball_mask;
-    recipe->photo_source = transfer.source;
-    recipe->highlight = transfer.highlight;
-    recipe->photo_gain = transfer.relit_by;
-    recipe->glints = moved_glints;
-    if (!glints.surface.empty()) {
-      recipe->surface = glints.surface;
-      recipe->glint_fill = GlintFill(glints.filled);
-    }
-  }
-
-  if (layers != nullptr) {
-    cv::Mat added = gain > 0 ? cv::Mat(new_specular * gain) : cv::Mat();
-    if (!moved_glints.empty()) added = added.empty() ? moved_glints : added + moved_glints;
-    *layers = DebugLayers(warp, transfer, cornea, eyeball_layer, added);
-  }
+  if (recipe != nullptr) FillRecipe(region, warp, transfer, highlights, *recipe);
+  if (layers != nullptr) *layers = DebugLayers(warp, transfer, cornea, eyeball_layer, highlights.Added());
   return report;
+}
+
+std::optional<Redirector::EyeRegionView> Redirector::RenderBoth(const cv::Size& image_size, const Camera& camera,
+                                                                const Parameters& fitted,
+                                                                const Parameters& posed_target, std::string& note) {
+  if (fitted.eyelid_closure() > options_.max_closure_deg) {
+    note = fmt::format("eyes closed (lid closure {:.0f} deg)", fitted.eyelid_closure());
+    return std::nullopt;
+  }
+  fitted_renderer_.set_eyes(true, true);
+  fitted_renderer_.Pose(fitted);
+  target_renderer_.Pose(posed_target);
+  EyeRegionView view;
+  view.region = (ModelBounds(fitted_renderer_.posed(), camera, 0.02) |
+                 ModelBounds(target_renderer_.posed(), camera, 0.02)) & cv::Rect(cv::Point(0, 0), image_size);
+  if (view.region.width < 8 || view.region.height < 4) {
+    note = "the eyes are outside the image";
+    return std::nullopt;
+  }
+  view.camera = camera.Cropped(view.region.x, view.region.y, view.region.width, view.region.height);
+  fitted_renderer_.Rasterize(view.camera, fitted_buffers_);
+  fitted_renderer_.Shade(fitted, view.camera, fitted_buffers_);
+  view.eyes = OpenEyes(fitted, view.camera, note);
+  if (!view.eyes[0] && !view.eyes[1]) return std::nullopt;
+  view.slit = SlitShares(fitted, view.camera);
+  if (!view.eyes[0] || !view.eyes[1]) {  // only the open eye's parts from here on
+    fitted_renderer_.set_eyes(view.eyes[0], view.eyes[1]);
+    fitted_renderer_.Rasterize(view.camera, fitted_buffers_);
+    fitted_renderer_.Shade(fitted, view.camera, fitted_buffers_);
+  }
+  target_renderer_.set_eyes(view.eyes[0], view.eyes[1]);
+  target_renderer_.Render(posed_target, view.camera, target_buffers_);
+  return view;
+}
+
+Highlights Redirector::FindHighlights(const cv::Mat& photo, const Camera& crop_camera, const Parameters& fitted,
+                                      const Parameters& posed_target, const cv::Mat& fitted_cornea) {
+  Highlights highlights;
+  // Reflections: the environment that explains the photo's highlights.
+  const auto& maps = BuiltInEnvironmentMaps();
+  const bool fixed = options_.environment >= 0 && options_.environment < static_cast<int>(maps.size());
+  highlights.environment = fixed ? options_.environment : -1;
+  double& gain = highlights.gain;
+  if (options_.specular) {
+    highlights.environment =
+        ChooseEnvironment(photo, crop_camera, fixed ? options_.environment : -1, gain, highlights.old_specular);
+  }
+  if (gain > 0) {
+    Reflections(target_renderer_, target_buffers_, crop_camera, maps[highlights.environment], highlights.new_specular);
+  }
+  if (!options_.move_glints || !options_.transfer_eyeballs) return highlights;
+  // The photo's own glints, moved as the corneas move, stand in for the
+  // environment's strong reflections (its faint ones stay).
+  highlights.glints = FindGlints(photo, fitted_buffers_, fitted_cornea);
+  const Glints& glints = highlights.glints;
+  if (glints.found[0] || glints.found[1]) {
+    highlights.moved_glints = MovedGlints(glints, GlintShifts(fitted, posed_target, crop_camera), target_buffers_);
+  }
+  if (gain > 0) KeepFaintReflections(highlights.new_specular, target_buffers_, static_cast<float>(kHighlight / gain));
+  // A filled glint has lost its light already; taking the environment's
+  // highlight there off it again would leave a dark rim beside the moved
+  // glint (s42.jpg at the camera: a black dash under it).
+  if (gain > 0 && !glints.filled.empty()) highlights.old_specular.setTo(cv::Scalar::all(0), glints.filled);
+  return highlights;
 }
 
 }  // namespace gazedirector

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -13,6 +14,8 @@
 #include "gazedirector/render/renderer.h"
 
 namespace gazedirector {
+
+struct Highlights;
 
 struct RedirectOptions {
   // Warp the eyelids to follow the new gaze (off: "eyeballs only", one of
@@ -115,6 +118,26 @@ class Redirector {
   // recipe followed at full size. The layers are of the working size.
   RedirectReport RedirectShrunk(cv::Mat& image, const Camera& camera, const Parameters& fitted,
                                 const Parameters& target, double scale, RedirectLayers* layers);
+  // The environment map and its gain that explain the photo's highlights on
+  // the fitted eyes (rasterized in fitted_buffers_, `fitted_cornea` their
+  // cornea attribute), and the photo's own glints moved onto the re-posed
+  // eyes (in target_buffers_).
+  Highlights FindHighlights(const cv::Mat& photo, const Camera& crop_camera, const Parameters& fitted,
+                            const Parameters& posed_target, const cv::Mat& fitted_cornea);
+  // The eye region of an image that the fit and the re-posed model cover,
+  // as a camera of its own sees it, and which eyes are redirected there.
+  struct EyeRegionView {
+    cv::Rect region;
+    Camera camera;                 // the image's, cropped to the region
+    std::array<bool, 2> eyes;      // open enough to redirect (indexed by Eye)
+    std::array<float, 2> slit;     // how much each is a slit of lashes (SlitShares)
+  };
+  // The view of `fitted` and `posed_target` in an image of `image_size`
+  // seen by `camera`, both rendered there (fitted_buffers_ only with the
+  // open eyes, target_buffers_): none where the eyes are closed or outside
+  // the image (`note` says why; it names closed eyes among open ones too).
+  std::optional<EyeRegionView> RenderBoth(const cv::Size& image_size, const Camera& camera, const Parameters& fitted,
+                                          const Parameters& posed_target, std::string& note);
   // `target` as the redirection poses it: with the fitted lids when they are not warped.
   Parameters PosedTarget(const Parameters& fitted, const Parameters& target) const;
   // The eyes of `fitted` (rendered in fitted_buffers_ over `crop`) open
