@@ -13,6 +13,7 @@
 #include "gazedirector/render/model_bounds.h"
 
 namespace gazedirector {
+
 // The photo's highlights on the fitted eyes, and what stands in for them on
 // the new ones.
 struct Highlights {
