@@ -777,13 +777,11 @@ Highlights Redirector::FindHighlights(const cv::Mat& photo, const Camera& crop_c
   Highlights highlights;
   // Reflections: the environment that explains the photo's highlights.
   const auto& maps = BuiltInEnvironmentMaps();
-  const bool fixed = options_.environment >= 0 && options_.environment < static_cast<int>(maps.size());
-  highlights.environment = fixed ? options_.environment : -1;
+  const bool valid = options_.environment >= 0 && options_.environment < static_cast<int>(maps.size());
+  const int fixed = valid ? options_.environment : -1;
   double& gain = highlights.gain;
-  if (options_.specular) {
-    highlights.environment =
-        ChooseEnvironment(photo, crop_camera, fixed ? options_.environment : -1, gain, highlights.old_specular);
-  }
+  highlights.environment =
+      options_.specular ? ChooseEnvironment(photo, crop_camera, fixed, gain, highlights.old_specular) : fixed;
   if (gain > 0) {
     Reflections(target_renderer_, target_buffers_, crop_camera, maps[highlights.environment], highlights.new_specular);
   }
