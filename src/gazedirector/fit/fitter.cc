@@ -68,6 +68,7 @@ void ClampToBounds(Parameters& phi) {
   clamp_block(Block::kShape, -3, 3);
   clamp_block(Block::kTexture, -3, 3);
   clamp_block(Block::kIrisSize, 0.85, 1.08);
+  clamp_block(Block::kPupilSize, 0.15, 0.7);  // 2 to 8 mm in an iris of 11.7 mm
   clamp_block(Block::kIrisColour, 0.0, 2.0);
   clamp_block(Block::kScleraTint, 0.0, 2.0);
   clamp_block(Block::kInterocular, 50, 76);
@@ -90,6 +91,7 @@ double Fitter::StepSize(int index, const Parameters& phi, const Camera& camera) 
   switch (block) {
     case Block::kShape: return 0.25;
     case Block::kIrisSize: return 0.015;
+    case Block::kPupilSize: return 0.03;
     case Block::kRotation: return std::clamp(RadToDeg(half_pixel_mm / 25.0), 0.05, 2.0);  // 25 mm lever
     case Block::kTranslation: return element < 2 ? half_pixel_mm : half_pixel_mm * depth / 25.0;
     case Block::kInterocular: return 2 * half_pixel_mm;

@@ -1,6 +1,7 @@
 #include "gazedirector/fit/fitter.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -141,6 +142,17 @@ TEST(FitterTest, ARefitKeepsTheHeldParametersAndFindsTheGaze) {
   EXPECT_NEAR(refit.phi.gaze_pitch(), first.phi.gaze_pitch(), 3.0);
   EXPECT_NEAR(refit.phi.gaze_yaw(), first.phi.gaze_yaw(), 3.0);
   EXPECT_LT(refit.terms.total(), 1.1 * first.terms.total());
+}
+
+// d19.jpg is lit brightly: his pupils are about 4 px across in irises of
+// about 22 (0.18 of the iris's radius), far from the eyeball texture's 0.49.
+// The fit narrows them; left at the texture's, the black disc read as
+// light on his iris (the environment's highlights) in redirection.
+TEST(FitterTest, PupilsNarrowedByBrightLightAreFittedNarrow) {
+  const testing::FittedStill& still = testing::FitStill("images/d19.jpg");
+  ASSERT_TRUE(still.fit.good) << still.fit.note;
+  std::printf("pupil size %.3f, iris size %.3f\n", still.fit.phi.pupil_size(), still.fit.phi.iris_size());
+  EXPECT_LT(still.fit.phi.pupil_size(), 0.3);
 }
 
 // A face a quarter turn in the photo (a phone held sideways, its picture not

@@ -36,10 +36,17 @@ void FittingProblem::SetDomain(const RenderBuffers& current, int margin) {
 }
 
 int FittingProblem::num_residuals() const {
-  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kNumTextureModes + kPoseResiduals;
+  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + 1 + kNumTextureModes +
+         kPoseResiduals;
 }
 
 namespace {
+
+// The shape prior's pupil: about 4 mm across in an iris of 11.7 mm (2 to 8 mm
+// from bright light to the dark). Where the pupil does not show (a dark iris,
+// a narrow opening) it stays near this.
+constexpr double kTypicalPupilSize = 0.35;
+constexpr double kPupilSizeSd = 0.15;
 
 // What a pixel's colour difference is multiplied by in the residuals: the
 // robust truncation caps its squared error at `truncation`.
@@ -131,7 +138,9 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
       terms.landmarks += landmark_scale * landmark_weights_[k] * (work.landmarks[k] - targets_[k]).squaredNorm();
     }
   }
-  terms.stats = weights_.shape * SumOfSquares(phi.shape()) + weights_.texture * SumOfSquares(phi.texture());
+  const double pupil_sd = (phi.pupil_size() - kTypicalPupilSize) / kPupilSizeSd;
+  terms.stats = weights_.shape * (SumOfSquares(phi.shape()) + pupil_sd * pupil_sd) +
+                weights_.texture * SumOfSquares(phi.texture());
   terms.pose = weights_.pose * std::pow(phi.eyelid_pitch() - phi.gaze_pitch(), 2) +
                weights_.vergence * phi.vergence() * phi.vergence() +
                weights_.closure * phi.eyelid_closure() * phi.eyelid_closure();
@@ -172,6 +181,7 @@ EnergyTerms FittingProblem::Evaluate(const Parameters& phi, EvaluationWorkspace&
   }
   r.segment<kNumShapeModes>(row) = (std::sqrt(weights_.shape) * phi.shape()).cast<float>();
   row += kNumShapeModes;
+  r[row++] = static_cast<float>(std::sqrt(weights_.shape) * pupil_sd);
   r.segment<kNumTextureModes>(row) = (std::sqrt(weights_.texture) * phi.texture()).cast<float>();
   row += kNumTextureModes;
   r[row] = static_cast<float>(std::sqrt(weights_.pose) * (phi.eyelid_pitch() - phi.gaze_pitch()));

@@ -52,6 +52,9 @@ inline constexpr std::array<int, 32> kLimbus = {3,  7,  11, 14, 18, 21, 25, 29, 
 inline constexpr double kLimbusRadiusMm = 5.87;
 inline constexpr double kLimbusDepthMm = 10.75;
 inline constexpr double kLimbusUvRadius = 0.1385;  // measured: uv = 0.5 + 0.1385 (x, z) / 5.87 mm on the cornea
+// The eyeball texture's pupil radius relative to the limbus's (measured on
+// eyeball_grey.png: the black disc spans 443-581 of 1024 texels).
+inline constexpr double kTexturePupilSize = 0.49;
 inline constexpr double kScleraRadiusMm = 12.05;
 // The corneal bulge's central part is a sphere of 6.84 mm centred 6.22 mm in
 // front of the eyeball's centre (a sphere fitted to the mesh's cornea vertices

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "gazedirector/geometry/rotation.h"
+#include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -32,6 +33,7 @@ ParameterMask AllParameters() {
 Parameters::Parameters() {
   values.setZero();
   iris_size() = 0.95;
+  pupil_size() = topology::kTexturePupilSize;
   block<Block::kIrisColour>() = Eigen::Vector3d(0.45, 0.32, 0.22);
   block<Block::kScleraTint>() = Eigen::Vector3d(0.85, 0.80, 0.78);
   interocular() = 63.0;
@@ -97,6 +99,9 @@ Parameters Parameters::FromJson(const nlohmann::json& json) {
   }
   if (!(parameters.interocular() > 0) || !(parameters.iris_size() > 0)) {
     Fail(ExitCode::kBadInput, "interocular distance and iris size must be positive");
+  }
+  if (!(parameters.pupil_size() > 0 && parameters.pupil_size() < 1)) {
+    Fail(ExitCode::kBadInput, "pupil_size: the pupil's radius relative to the iris's must be between 0 and 1");
   }
   if (!(parameters.translation().z() > 0)) {
     Fail(ExitCode::kBadInput, "translation_mm: the eyes must be in front of the camera (z > 0)");

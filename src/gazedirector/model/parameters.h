@@ -28,6 +28,7 @@ enum class Block : int {
   kAmbient,         // ι_amb: ambient light RGB
   kLightColour,     // ι_dir: directional light RGB
   kLightDirection,  // ι_R: direction toward the light, pitch (up +) and yaw (image right +), camera frame
+  kPupilSize,       // β_pupil: pupil radius relative to the iris's (the eyeball texture's pupil: 0.49)
 };
 
 struct BlockLayout {
@@ -40,7 +41,7 @@ struct BlockLayout {
 inline constexpr int kNumShapeModes = 16;
 inline constexpr int kNumTextureModes = 8;
 
-inline constexpr std::array<BlockLayout, 14> kBlockLayout = {{
+inline constexpr std::array<BlockLayout, 15> kBlockLayout = {{
     {Block::kShape, "shape_sd", 0, kNumShapeModes},
     {Block::kIrisSize, "iris_size", 16, 1},
     {Block::kTexture, "texture_sd", 17, kNumTextureModes},
@@ -55,9 +56,10 @@ inline constexpr std::array<BlockLayout, 14> kBlockLayout = {{
     {Block::kAmbient, "ambient_rgb", 43, 3},
     {Block::kLightColour, "light_rgb", 46, 3},
     {Block::kLightDirection, "light_pitch_yaw_deg", 49, 2},
+    {Block::kPupilSize, "pupil_size", 51, 1},
 }};
 
-inline constexpr int kNumParameters = 51;
+inline constexpr int kNumParameters = 52;
 
 constexpr const BlockLayout& LayoutOf(Block block) { return kBlockLayout[static_cast<int>(block)]; }
 
@@ -96,6 +98,8 @@ class Parameters {
   auto texture() const { return block<Block::kTexture>(); }
   double& iris_size() { return values[LayoutOf(Block::kIrisSize).offset]; }
   double iris_size() const { return values[LayoutOf(Block::kIrisSize).offset]; }
+  double& pupil_size() { return values[LayoutOf(Block::kPupilSize).offset]; }
+  double pupil_size() const { return values[LayoutOf(Block::kPupilSize).offset]; }
   Eigen::Vector3d iris_colour() const { return block<Block::kIrisColour>(); }
   Eigen::Vector3d sclera_tint() const { return block<Block::kScleraTint>(); }
   Eigen::Vector3d rotation_deg() const { return block<Block::kRotation>(); }

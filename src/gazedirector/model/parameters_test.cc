@@ -41,10 +41,15 @@ TEST(ParametersTest, JsonRoundTripsAndRejectsUnknownOrMisshapenBlocks) {
   json = phi.ToJson();
   json["translation_mm"] = {0, 0, -100};
   EXPECT_THROW(Parameters::FromJson(json), Error);
-  // Missing blocks keep their defaults.
+  json = phi.ToJson();
+  json["pupil_size"] = 1.2;  // a pupil wider than its iris
+  EXPECT_THROW(Parameters::FromJson(json), Error);
+  // Missing blocks keep their defaults (fits written before the pupil was
+  // fitted have the texture's pupil).
   const Parameters partial = Parameters::FromJson(nlohmann::json{{"eyelid_pitch_deg", 5.0}});
   EXPECT_EQ(partial.eyelid_pitch(), 5.0);
   EXPECT_EQ(partial.interocular(), Parameters().interocular());
+  EXPECT_EQ(partial.pupil_size(), 0.49);
 }
 
 TEST(ParametersTest, HoldingBlocksLeavesTheOthersAsTheyWere) {

@@ -698,5 +698,65 @@ TEST(RedirectorTest, AGlintBesideScleraUnderTheFittedIrisMovesNoBarOfSclera) {
   EXPECT_LT(bright / levels.size(), 0.05);
 }
 
+// Pixels of `redirected`'s new irises darker than their 5x5 median by more
+// than 25 grey levels: two pixels or more inside the eyeballs and clear of
+// pupils of `pupil_size` (of the iris's radius) where `target` puts them,
+// magnified by the cornea, and two pixels more.
+int DarkSpecksInTheIrises(const Redirected& redirected, const Camera& camera, const Parameters& target,
+                          double pupil_size) {
+  const cv::Rect& region = redirected.report.region;
+  cv::Mat grey, median, irises;
+  cv::cvtColor(redirected.image(region), grey, cv::COLOR_BGR2GRAY);
+  cv::medianBlur(grey, median, 5);
+  cv::erode(redirected.layers.eyeball_mask, irises, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  irises &= ~redirected.layers.sclera_mask;
+  for (int eye = 0; eye < 2; ++eye) {
+    const Eigen::Vector3d centre = IrisCentre(target, eye);
+    const Eigen::Vector2d at = camera.Project(centre) - Eigen::Vector2d(region.x, region.y);
+    const double pupil = 1.3 * camera.fx * topology::kLimbusRadiusMm * target.iris_size() * pupil_size / centre.z();
+    cv::circle(irises, cv::Point(cvRound(at.x()), cvRound(at.y())), cvRound(pupil + 2), cv::Scalar(0), cv::FILLED);
+  }
+  cv::Mat specks = (median - grey > 25) & irises;
+  return cv::countNonZero(specks);
+}
+
+// d19.jpg fitted as `track` and `redirect` fit a photo, once per test binary.
+const FittedFrame& TrackedD19() {
+  static const FittedFrame d19 = [] {
+    GazeTracker tracker(SharedModel(), testing::SharedLandmarkDetector(), testing::SharedMeanFace());
+    const testing::DetectedStill still = testing::DetectStill("images/d19.jpg");
+    const std::vector<FaceFit> fits = tracker.ProcessFrame(still.image, 0.0, still.camera);
+    EXPECT_EQ(fits.size(), 1u);
+    return FittedFrame{still.image, still.camera, fits.empty() ? FitResult{} : fits[0].fit};
+  }();
+  return d19;
+}
+
+// d19.jpg is lit brightly and his pupils are narrow. Until session 67 the
+// model's pupil was the eyeball texture's, nearly half the iris: the fit's
+// black disc left his iris brighter than the rendering, which the chosen
+// environment explained as its highlight there. Taken off the iris, or
+// keeping it from being reused (its mirror image brought the pupil's edge),
+// that highlight left dark specks and arcs in the turned irises.
+TEST(RedirectorTest, NarrowPupilsLeaveNoDarkSpecksInTurnedIrises) {
+  constexpr double kHisPupils = 0.25;  // of the iris's radius, measured on the photo: about 0.2
+  const FittedFrame& d19 = TrackedD19();
+  ASSERT_TRUE(d19.fit.good) << d19.fit.note;
+  const testing::FittedStill photo{{d19.image, d19.camera, {}}, d19.fit};
+  Redirector redirector(SharedModel());
+  int specks = 0;
+  for (const auto& [pitch, yaw] : {std::pair{0.0, 10.0}, {0.0, -10.0}, {10.0, 0.0}, {-10.0, 0.0}}) {
+    Parameters target = d19.fit.phi;
+    target.gaze_pitch() += pitch;
+    target.gaze_yaw() += yaw;
+    const Redirected turned = RedirectPhoto(redirector, d19.fit.phi, target, photo);
+    ASSERT_TRUE(turned.report.redirected[0] && turned.report.redirected[1]) << turned.report.note;
+    const int these = DarkSpecksInTheIrises(turned, d19.camera, target, kHisPupils);
+    std::printf("pitch %+.0f yaw %+.0f: %d dark specks in the irises\n", pitch, yaw, these);
+    specks += these;
+  }
+  EXPECT_LE(specks, 3);
+}
+
 }  // namespace
 }  // namespace gazedirector

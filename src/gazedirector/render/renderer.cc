@@ -216,6 +216,23 @@ struct Renderer::ShadingInputs {
   Eigen::Vector3f ambient, light_colour;
   Eigen::Vector4f upper_lid[2], lower_lid[2];
   EyeballShading shading;
+  // The pupil's radius in the texture's uv and as fitted (equal: no resizing).
+  float texture_pupil_uv, pupil_uv;
+
+  // Where the eyeball texture is read for uv (u, v): with the pupil resized,
+  // the iris between it and the limbus stretches or shrinks radially.
+  Eigen::Vector2f EyeballUv(float u, float v) const {
+    constexpr float kLimbus = static_cast<float>(topology::kLimbusUvRadius);
+    if (pupil_uv == texture_pupil_uv) return {u, v};
+    const float du = u - 0.5f, dv = v - 0.5f;
+    const float radius = std::sqrt(du * du + dv * dv);
+    if (radius >= kLimbus || radius <= 0) return {u, v};
+    const float read = radius < pupil_uv ? radius * (texture_pupil_uv / pupil_uv)
+                                         : texture_pupil_uv + (radius - pupil_uv) * ((kLimbus - texture_pupil_uv) /
+                                                                                      (kLimbus - pupil_uv));
+    const float scale = read / radius;
+    return {0.5f + du * scale, 0.5f + dv * scale};
+  }
 
   // Ambient plus directional light at a Lambertian factor (ShadeChunk applies
   // the same per channel, vectorised).
@@ -263,6 +280,8 @@ Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& ca
     in.lower_lid[eye] = posed_.eyes[eye].lower_lid.cast<float>();
   }
   in.shading = eyeball_shading_;
+  in.texture_pupil_uv = static_cast<float>(topology::kLimbusUvRadius * topology::kTexturePupilSize);
+  in.pupil_uv = static_cast<float>(topology::kLimbusUvRadius * phi.pupil_size());
   return in;
 }
 
@@ -313,7 +332,8 @@ inline Renderer::PixelShading Renderer::ShadeSurface(const ShadingInputs& in, in
     in.skin_ahead.Locate(a[0], a[1], offset, fx, fy);
     shading.albedo = in.SkinAlbedo(offset, fx, fy).head<3>();
   } else {
-    const Eigen::Vector4f base = in.eyeball.Sample(a[0], a[1]);
+    const Eigen::Vector2f uv = in.EyeballUv(a[0], a[1]);
+    const Eigen::Vector4f base = in.eyeball.Sample(uv[0], uv[1]);
     // Ambient occlusion: darker toward the lid margins, in the eyeball's
     // angular frame (azimuth, elevation).
     const int eye = EyeOfPart(part);

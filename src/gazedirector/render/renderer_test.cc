@@ -168,6 +168,37 @@ TEST(RendererTest, LightAndTintChangeColoursAsLambertianShadingPredicts) {
   EXPECT_LT((dim.colour * 2 - bright.colour).cwiseAbs().maxCoeff(), 1e-5) << "colour is linear in the light";
 }
 
+// Eyeball pixels of `phi` rendered close up (irises about 27 px across)
+// darker than `level` (luminance).
+int DarkEyeballPixels(const Parameters& phi, float level) {
+  const Camera close_up{1800, 1800, 299.5, 149.5, 600, 300};
+  Renderer renderer(SharedModel());
+  RenderBuffers buffers;
+  renderer.Render(phi, close_up, buffers);
+  int count = 0;
+  for (std::size_t i = 0; i < buffers.foreground.size(); ++i) {
+    if (!IsEyeball(buffers.PartAt(buffers.foreground[i]))) continue;
+    const Eigen::Index row = static_cast<Eigen::Index>(i);
+    const float luminance = 0.299f * buffers.colour(row, 0) + 0.587f * buffers.colour(row, 1) + 0.114f * buffers.colour(row, 2);
+    count += luminance < level;
+  }
+  return count;
+}
+
+TEST(RendererTest, ThePupilSizeResizesThePupilAndKeepsTheIrissEdge) {
+  Parameters phi = Framed();
+  const int pupil = DarkEyeballPixels(phi, 0.03f), iris = DarkEyeballPixels(phi, 0.2f);
+  ASSERT_GT(pupil, 400) << "both pupils, about 13 px in radius";
+  phi.pupil_size() = 0.25;
+  const int small_pupil = DarkEyeballPixels(phi, 0.03f), same_iris = DarkEyeballPixels(phi, 0.2f);
+  // The area goes with the radius squared: (0.25 / 0.49)^2 = 0.26.
+  const double ratio = static_cast<double>(small_pupil) / pupil;
+  EXPECT_GT(ratio, 0.18);
+  EXPECT_LT(ratio, 0.36);
+  // The iris (darker than the sclera) keeps its extent: only its inside stretches.
+  EXPECT_NEAR(same_iris, iris, 0.03 * iris);
+}
+
 // The exact derivatives of colour for the linear appearance parameters
 // agree with central differences of two renders.
 TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {

@@ -12,9 +12,10 @@ namespace gazedirector {
 namespace {
 
 // The parameters that settle in a video: shape, texture (skin, iris colour,
-// sclera tint), iris size and interocular distance.
-constexpr std::initializer_list<Block> kSettledBlocks = {Block::kShape,       Block::kTexture,    Block::kIrisSize,
-                                                          Block::kIrisColour,  Block::kScleraTint, Block::kInterocular};
+// sclera tint), iris and pupil size and interocular distance.
+constexpr std::initializer_list<Block> kSettledBlocks = {Block::kShape,      Block::kTexture,    Block::kIrisSize,
+                                                          Block::kPupilSize,  Block::kIrisColour, Block::kScleraTint,
+                                                          Block::kInterocular};
 
 // Holds them.
 FitOptions HoldSettled(FitOptions options) {
