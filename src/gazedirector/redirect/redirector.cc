@@ -251,7 +251,12 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     // environment explains there: the re-posed eye gets its own.
     cv::Vec3f value = Bilinear(in.surface, s[0], s[1]);
     if (in.gain > 0) {
-      const cv::Vec3f old_highlight = static_cast<float>(in.gain) * Bilinear(in.old_specular, s[0], s[1]);
+      // A sample beside a strong highlight, which is not reused, would
+      // take off part of it: no more than a faint one (d19.jpg: dark specks
+      // in the iris around its modelled highlight).
+      cv::Vec3f old_highlight = static_cast<float>(in.gain) * Bilinear(in.old_specular, s[0], s[1]);
+      const float strength = Luminance(old_highlight);
+      if (strength > kHighlight) old_highlight *= kHighlight / strength;
       for (int c = 0; c < 3; ++c) value[c] = std::max(0.0f, value[c] - old_highlight[c]);
       if (keep_sources) transfer.highlight.at<cv::Vec3f>(y, x) = old_highlight;
     }
@@ -316,6 +321,24 @@ void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, float 
     cv::Vec3f& value = specular.at<cv::Vec3f>(pixel / width, pixel % width);
     const float luminance = Luminance(value);
     if (luminance > most) value *= most / luminance;
+  }
+}
+
+// Limits the environment's reflections on the fitted eyeballs (`specular`,
+// before `gain`) to the light the photo shows over the fit's diffuse
+// rendering: the model places a highlight only roughly, and one placed on
+// plain iris would be taken off it (dark specks) or keep it from being
+// reused (d19.jpg: its mirror image brought the pupil's edge into the iris).
+void KeepShownReflections(cv::Mat& specular, double gain, const cv::Mat& photo, const RenderBuffers& fitted) {
+  const int width = specular.cols;
+  for (std::size_t i = 0; i < fitted.foreground.size(); ++i) {
+    const int pixel = fitted.foreground[i];
+    if (!IsEyeball(fitted.PartAt(pixel))) continue;
+    const int x = pixel % width, y = pixel / width;
+    cv::Vec3f& value = specular.at<cv::Vec3f>(y, x);
+    const float modelled = static_cast<float>(gain) * Luminance(value);
+    const float shown = std::max(0.0f, Luminance(photo.at<cv::Vec3f>(y, x)) - Luminance(RenderedBgr(fitted, i)));
+    if (modelled > shown) value *= shown / modelled;
   }
 }
 
@@ -783,6 +806,7 @@ Highlights Redirector::FindHighlights(const cv::Mat& photo, const Camera& crop_c
   highlights.environment =
       options_.specular ? ChooseEnvironment(photo, crop_camera, fixed, gain, highlights.old_specular) : fixed;
   if (gain > 0) {
+    KeepShownReflections(highlights.old_specular, gain, photo, fitted_buffers_);
     Reflections(target_renderer_, target_buffers_, crop_camera, maps[highlights.environment], highlights.new_specular);
   }
   if (!options_.move_glints || !options_.transfer_eyeballs) return highlights;
