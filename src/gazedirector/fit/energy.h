@@ -13,7 +13,7 @@ struct EnergyWeights {
   double landmarks = 2.0;     // λ_ldmks, for the lid points and corners
   double brow_factor = 0.2;   // brows and nose are marked less precisely
   double nose_factor = 0.2;
-  double shape = 2e-4;        // λ_geo, per squared standard deviation
+  double shape = 2e-4;        // λ_geo, per squared standard deviation (of the shape and the pupil's size)
   double texture = 2e-4;      // λ_tex
   double pose = 4e-5;         // λ_pose, per squared degree of eyelid-gaze mismatch
   double closure = 1e-5;      // per squared degree of eyelid closure: open eyes unless the image says otherwise

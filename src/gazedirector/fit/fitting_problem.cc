@@ -36,8 +36,9 @@ void FittingProblem::SetDomain(const RenderBuffers& current, int margin) {
 }
 
 int FittingProblem::num_residuals() const {
-  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + 1 + kNumTextureModes +
-         kPoseResiduals;
+  constexpr int kPupilPrior = 1;
+  return num_image_residuals() + 2 * static_cast<int>(targets_.size()) + kNumShapeModes + kPupilPrior +
+         kNumTextureModes + kPoseResiduals;
 }
 
 namespace {
