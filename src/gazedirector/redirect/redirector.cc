@@ -324,24 +324,6 @@ void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, float 
   }
 }
 
-// Limits the environment's reflections on the fitted eyeballs (`specular`,
-// before `gain`) to the light the photo shows over the fit's diffuse
-// rendering: the model places a highlight only roughly, and one placed on
-// plain iris would be taken off it (dark specks) or keep it from being
-// reused (d19.jpg: its mirror image brought the pupil's edge into the iris).
-void KeepShownReflections(cv::Mat& specular, double gain, const cv::Mat& photo, const RenderBuffers& fitted) {
-  const int width = specular.cols;
-  for (std::size_t i = 0; i < fitted.foreground.size(); ++i) {
-    const int pixel = fitted.foreground[i];
-    if (!IsEyeball(fitted.PartAt(pixel))) continue;
-    const int x = pixel % width, y = pixel / width;
-    cv::Vec3f& value = specular.at<cv::Vec3f>(y, x);
-    const float modelled = static_cast<float>(gain) * Luminance(value);
-    const float shown = std::max(0.0f, Luminance(photo.at<cv::Vec3f>(y, x)) - Luminance(RenderedBgr(fitted, i)));
-    if (modelled > shown) value *= shown / modelled;
-  }
-}
-
 // The photo's clear sclera as the fit showed it: the median colour of the
 // brighter half of the fitted sclera deeper than `margin_px` inside the fitted
 // opening (lids, lashes and the iris's edge are darker), or `fallback` where
@@ -630,6 +612,15 @@ int Redirector::ChooseEnvironment(const cv::Mat& photo, const Camera& camera, in
   }
   // Reflections that explain too little are not worth adding.
   if (best_error > 0.97 * baseline) gain = 0;
+  // They count only as far as the photo shows light there: the model places
+  // a highlight only roughly, and one placed on plain iris would be taken off
+  // it (dark specks) or keep it from being reused (d19.jpg: its mirror image
+  // brought the pupil's edge into the iris).
+  for (std::size_t i = 0; gain > 0 && i < pixels.size(); ++i) {
+    cv::Vec3f& value = specular.at<cv::Vec3f>(pixels[i] / photo.cols, pixels[i] % photo.cols);
+    const float modelled = static_cast<float>(gain) * Luminance(value);
+    if (modelled > residual[i]) value *= residual[i] / modelled;
+  }
   return best;
 }
 
@@ -806,7 +797,6 @@ Highlights Redirector::FindHighlights(const cv::Mat& photo, const Camera& crop_c
   highlights.environment =
       options_.specular ? ChooseEnvironment(photo, crop_camera, fixed, gain, highlights.old_specular) : fixed;
   if (gain > 0) {
-    KeepShownReflections(highlights.old_specular, gain, photo, fitted_buffers_);
     Reflections(target_renderer_, target_buffers_, crop_camera, maps[highlights.environment], highlights.new_specular);
   }
   if (!options_.move_glints || !options_.transfer_eyeballs) return highlights;

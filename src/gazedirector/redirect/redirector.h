@@ -150,7 +150,8 @@ class Redirector {
   std::array<float, 2> SlitShares(const Parameters& fitted, const Camera& crop);
   // The environment map (`fixed`, or the best of all when -1) and its gain
   // whose reflections on the fitted eyeballs best explain the bright
-  // residuals of the photo; `specular` gets those reflections (when gain > 0).
+  // residuals of the photo; `specular` gets those reflections (when gain > 0),
+  // each no brighter than the photo's residual there.
   int ChooseEnvironment(const cv::Mat& photo, const Camera& camera, int fixed, double& gain, cv::Mat& specular);
   // Specular radiance (RGB, before the gain) of every eyeball pixel of
   // `buffers`, rendered by `renderer`; zero elsewhere.

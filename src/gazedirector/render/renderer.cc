@@ -216,8 +216,18 @@ struct Renderer::ShadingInputs {
   Eigen::Vector3f ambient, light_colour;
   Eigen::Vector4f upper_lid[2], lower_lid[2];
   EyeballShading shading;
-  // The pupil's radius in the texture's uv and as fitted (equal: no resizing).
-  float texture_pupil_uv, pupil_uv;
+  // The pupil's radius in the texture's uv and as fitted (equal: no
+  // resizing), and how much the texture is read stretched inside and
+  // outside it (SetPupil).
+  float texture_pupil_uv, pupil_uv, inside_pupil, outside_pupil;
+
+  void SetPupil(double pupil_size) {
+    constexpr float kLimbus = static_cast<float>(topology::kLimbusUvRadius);
+    texture_pupil_uv = static_cast<float>(topology::kLimbusUvRadius * topology::kTexturePupilSize);
+    pupil_uv = static_cast<float>(topology::kLimbusUvRadius * pupil_size);
+    inside_pupil = texture_pupil_uv / pupil_uv;
+    outside_pupil = (kLimbus - texture_pupil_uv) / (kLimbus - pupil_uv);
+  }
 
   // Where the eyeball texture is read for uv (u, v): with the pupil resized,
   // the iris between it and the limbus stretches or shrinks radially.
@@ -227,9 +237,8 @@ struct Renderer::ShadingInputs {
     const float du = u - 0.5f, dv = v - 0.5f;
     const float radius = std::sqrt(du * du + dv * dv);
     if (radius >= kLimbus || radius <= 0) return {u, v};
-    const float read = radius < pupil_uv ? radius * (texture_pupil_uv / pupil_uv)
-                                         : texture_pupil_uv + (radius - pupil_uv) * ((kLimbus - texture_pupil_uv) /
-                                                                                      (kLimbus - pupil_uv));
+    const float read =
+        radius < pupil_uv ? radius * inside_pupil : texture_pupil_uv + (radius - pupil_uv) * outside_pupil;
     const float scale = read / radius;
     return {0.5f + du * scale, 0.5f + dv * scale};
   }
@@ -280,8 +289,7 @@ Renderer::ShadingInputs Renderer::Inputs(const Parameters& phi, const Camera& ca
     in.lower_lid[eye] = posed_.eyes[eye].lower_lid.cast<float>();
   }
   in.shading = eyeball_shading_;
-  in.texture_pupil_uv = static_cast<float>(topology::kLimbusUvRadius * topology::kTexturePupilSize);
-  in.pupil_uv = static_cast<float>(topology::kLimbusUvRadius * phi.pupil_size());
+  in.SetPupil(phi.pupil_size());
   return in;
 }
 

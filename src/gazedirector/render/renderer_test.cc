@@ -1,5 +1,6 @@
 #include "gazedirector/render/renderer.h"
 
+#include <array>
 #include <atomic>
 #include <cstdlib>
 #include <new>
@@ -169,28 +170,28 @@ TEST(RendererTest, LightAndTintChangeColoursAsLambertianShadingPredicts) {
 }
 
 // Eyeball pixels of `phi` rendered close up (irises about 27 px across)
-// darker than `level` (luminance).
-int DarkEyeballPixels(const Parameters& phi, float level) {
+// darker than each of `levels` (luminance).
+std::array<int, 2> DarkEyeballPixels(const Parameters& phi, std::array<float, 2> levels) {
   const Camera close_up{1800, 1800, 299.5, 149.5, 600, 300};
   Renderer renderer(SharedModel());
   RenderBuffers buffers;
   renderer.Render(phi, close_up, buffers);
-  int count = 0;
+  std::array<int, 2> counts = {0, 0};
   for (std::size_t i = 0; i < buffers.foreground.size(); ++i) {
     if (!IsEyeball(buffers.PartAt(buffers.foreground[i]))) continue;
     const Eigen::Index row = static_cast<Eigen::Index>(i);
     const float luminance = 0.299f * buffers.colour(row, 0) + 0.587f * buffers.colour(row, 1) + 0.114f * buffers.colour(row, 2);
-    count += luminance < level;
+    for (int k = 0; k < 2; ++k) counts[k] += luminance < levels[k];
   }
-  return count;
+  return counts;
 }
 
 TEST(RendererTest, ThePupilSizeResizesThePupilAndKeepsTheIrissEdge) {
   Parameters phi = Framed();
-  const int pupil = DarkEyeballPixels(phi, 0.03f), iris = DarkEyeballPixels(phi, 0.2f);
+  const auto [pupil, iris] = DarkEyeballPixels(phi, {0.03f, 0.2f});
   ASSERT_GT(pupil, 400) << "both pupils, about 13 px in radius";
   phi.pupil_size() = 0.25;
-  const int small_pupil = DarkEyeballPixels(phi, 0.03f), same_iris = DarkEyeballPixels(phi, 0.2f);
+  const auto [small_pupil, same_iris] = DarkEyeballPixels(phi, {0.03f, 0.2f});
   // The area goes with the radius squared: (0.25 / 0.49)^2 = 0.26.
   const double ratio = static_cast<double>(small_pupil) / pupil;
   EXPECT_GT(ratio, 0.18);
