@@ -52,6 +52,16 @@ cv::Vec3f EyeColourMatch::Match(const cv::Vec3f& rendered, bool sclera, const cv
   return rendered;  // too few samples to match
 }
 
+void EyeColourMatches::Finish() {
+  both_.Finish();
+  for (EyeColourMatch& eye : eyes_) eye.Finish();
+  for (int eye = 0; eye < 2; ++eye) {
+    const EyeColourMatch& other = eyes_[1 - eye];
+    const float least = other.complete() ? kLeastDarkness * other.iris_darkness() : 0.0f;
+    own_[eye] = eyes_[eye].complete() && eyes_[eye].iris_darkness() >= least;
+  }
+}
+
 void EyeColourMatch::FinishIris(float photo_sclera) {
   if (iris_[0].size() < kEnough) return;
   std::vector<double> luminance(iris_[0].size());
@@ -59,7 +69,10 @@ void EyeColourMatch::FinishIris(float photo_sclera) {
     luminance[i] = Luminance(cv::Vec3f(iris_[0][i], iris_[1][i], iris_[2][i]));
   }
   const float iris = static_cast<float>(Median(std::move(luminance)));
-  if (photo_sclera > iris) bright_iris_ = iris + kBrightIris * (photo_sclera - iris);
+  if (photo_sclera > iris) {
+    bright_iris_ = iris + kBrightIris * (photo_sclera - iris);
+    iris_darkness_ = (photo_sclera - iris) / photo_sclera;
+  }
   iris_matched_ = true;
   for (int c = 0; c < 3; ++c) {
     const std::array<double, 3> photo = Quartiles(std::move(iris_[c]));

@@ -29,6 +29,11 @@ class EyeColourMatch {
 
   // The photo's typical sclera colour (meaningful once sclera_known()).
   bool sclera_known() const { return sclera_known_; }
+  // Both the iris and the sclera had enough samples.
+  bool complete() const { return sclera_known_ && iris_matched_; }
+  // How much darker the photo's iris is than its sclera, as a share of the
+  // sclera's luminance (0 where unknown or not darker).
+  float iris_darkness() const { return iris_darkness_; }
   const cv::Vec3f& sclera_colour() const { return sclera_colour_; }
 
   // A rendered colour as the photo's eye would show it. Sclera takes the
@@ -54,6 +59,34 @@ class EyeColourMatch {
   bool iris_matched_ = false;
   cv::Vec3f iris_photo_, iris_rendered_, iris_contrast_;  // median irises, and their spreads' ratio
   float bright_iris_ = -1;
+  float iris_darkness_ = 0;
+};
+
+// One match per eye: each eye has its own light (one behind a tinted lens or
+// in a shadow), and thresholds and colours read from both would suit neither
+// (d8.jpg: his lit eye's pale iris, held against both eyes' colours, was
+// taken for sclera and rendered in the shaded eye's dark blue). An eye that
+// shows too little of its iris or sclera takes the match of both, and so does
+// one whose iris stands out from its sclera less than a quarter as much as the
+// other eye's does: its fit is off, so its "iris" is mostly sclera (d14.mp4's
+// far glances) or its "sclera" the lashes' shade, and the other eye's samples
+// are what tells them apart.
+class EyeColourMatches {
+ public:
+  void Add(int eye, const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
+    eyes_[eye].Add(photo, rendered, sclera);
+    both_.Add(photo, rendered, sclera);
+  }
+  void Finish();
+
+  const EyeColourMatch& operator[](int eye) const { return own_[eye] ? eyes_[eye] : both_; }
+  const EyeColourMatch& both() const { return both_; }
+
+ private:
+  std::array<EyeColourMatch, 2> eyes_;
+  EyeColourMatch both_;
+  static constexpr float kLeastDarkness = 0.25f;  // of the other eye's iris_darkness()
+  std::array<bool, 2> own_ = {false, false};
 };
 
 }  // namespace gazedirector

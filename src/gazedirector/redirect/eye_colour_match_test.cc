@@ -50,5 +50,40 @@ TEST(EyeColourMatchTest, TooFewSamplesLeaveTheRenderingAsItIs) {
   EXPECT_EQ(match.Match({0.9f, 0.9f, 0.9f}, true, {}), cv::Vec3f(0.9f, 0.9f, 0.9f));
 }
 
+// Samples of one eye: an even iris at `iris` and sclera at `sclera` (grey).
+void AddEye(EyeColourMatches& matches, int eye, float iris, float sclera) {
+  for (int i = 0; i < 40; ++i) {
+    matches.Add(eye, {iris, iris, iris}, {0.4f, 0.4f, 0.4f}, /*sclera=*/false);
+    matches.Add(eye, {sclera, sclera, sclera}, {0.9f, 0.9f, 0.9f}, /*sclera=*/true);
+  }
+}
+
+// One eye in shade, the other lit twice as brightly: each keeps its own
+// thresholds and iris colour, which both eyes' samples would blur together.
+TEST(EyeColourMatchTest, EachEyeIsMatchedInItsOwnLight) {
+  EyeColourMatches matches;
+  AddEye(matches, 0, 0.10f, 0.15f);
+  AddEye(matches, 1, 0.20f, 0.30f);
+  matches.Finish();
+  EXPECT_NEAR(matches[0].Match({0.4f, 0.4f, 0.4f}, false, {})[0], 0.10f, 1e-4);
+  EXPECT_NEAR(matches[1].Match({0.4f, 0.4f, 0.4f}, false, {})[0], 0.20f, 1e-4);
+  EXPECT_NEAR(matches[1].bright_iris(), 0.20f + 0.6f * 0.10f, 1e-4);
+  EXPECT_NEAR(matches[0].dark_sclera(), 0.7f * 0.15f, 1e-4);
+  EXPECT_NEAR(matches[1].dark_sclera(), 0.7f * 0.30f, 1e-4);
+}
+
+// An eye whose "iris" is nearly as bright as its sclera was fitted beside its
+// iris: it takes both eyes' match, whose bright-iris threshold the other
+// eye's dark iris keeps low enough to tell its sclera from iris.
+TEST(EyeColourMatchTest, AnEyeWhoseIrisLooksLikeItsScleraTakesBothEyesMatch) {
+  EyeColourMatches matches;
+  AddEye(matches, 0, 0.76f, 0.85f);  // darker by 0.11 of the sclera
+  AddEye(matches, 1, 0.19f, 0.58f);  // by 0.67
+  matches.Finish();
+  EXPECT_EQ(&matches[0], &matches.both());
+  EXPECT_NE(&matches[1], &matches.both());
+  EXPECT_LT(matches[0].bright_iris(), 0.76f);
+}
+
 }  // namespace
 }  // namespace gazedirector

@@ -162,7 +162,7 @@ struct EyeballTransfer {
   cv::Mat source;                 // where it came from (CV_32FC2), when kept for a recipe
   cv::Mat highlight;              // the old reflections taken off it there (CV_32FC3), likewise
   cv::Mat relit_by;               // and the factor it was relit by (CV_32F), likewise
-  EyeColourMatch colours;
+  EyeColourMatches colours;
 
   EyeballTransfer(cv::Size size, bool keep_sources)
       : rendered(size, CV_32FC3, cv::Scalar::all(0)),
@@ -269,7 +269,7 @@ EyeballTransfer TransferEyeballs(const RenderBuffers& fitted, const RenderBuffer
     if (sclera) transfer.from_depth.at<float>(y, x) = in.source_depth.at<float>(NearestPixel(s));
     transfer.moved_by.at<float>(y, x) = std::hypot(s[0] - x, s[1] - y);
     transfer.transfer_mask.data[pixel] = cv::saturate_cast<uchar>(255 * (1 - slit_share));
-    if (in.slit[EyeOfPart(part)] < 0.5f) transfer.colours.Add(value, colour, sclera);
+    if (in.slit[EyeOfPart(part)] < 0.5f) transfer.colours.Add(EyeOfPart(part), value, colour, sclera);
   }
   transfer.colours.Finish();
   return transfer;
@@ -292,14 +292,15 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
   for (int pixel : target.foreground) {
     const int x = pixel % width, y = pixel / width;
     if (!transfer.transfer_mask.data[pixel]) continue;
+    const EyeColourMatch& colours = transfer.colours[EyeOfPart(target.PartAt(pixel))];
     if (!IsSclera(cornea, x, y)) {
-      if (transfer.colours.bright_iris() > 0 && transfer.moved_by.at<float>(y, x) > margin_px &&
-          Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) > transfer.colours.bright_iris()) {
+      if (colours.bright_iris() > 0 && transfer.moved_by.at<float>(y, x) > margin_px &&
+          Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) > colours.bright_iris()) {
         transfer.transfer_mask.data[pixel] = 0;
       }
       continue;
     }
-    if (Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) >= transfer.colours.dark_sclera()) {
+    if (Luminance(transfer.transferred.at<cv::Vec3f>(y, x)) >= colours.dark_sclera()) {
       clear_sclera.data[pixel] = 255;
     } else if (target_depth.at<float>(y, x) > margin_px &&
                target_depth.at<float>(y, x) > transfer.from_depth.at<float>(y, x) + margin_px) {
@@ -377,18 +378,18 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
 // the iris's colours to the sclera's at the rendered iris's edge
 // (`limbus_distance`), which a per-pixel choice alone would draw as steps:
 // it is antialiased.
-cv::Mat MatchedRendering(const EyeballTransfer& transfer, const cv::Mat& eyeball_mask, const cv::Mat& limbus_distance,
-                         const cv::Mat& photo_sclera) {
+cv::Mat MatchedRendering(const EyeballTransfer& transfer, const RenderBuffers& target, const cv::Mat& eyeball_mask,
+                         const cv::Mat& limbus_distance, const cv::Mat& photo_sclera) {
   cv::Mat matched(eyeball_mask.size(), CV_32FC3, cv::Scalar::all(0));
-  for (int y = 0; y < matched.rows; ++y) {
-    for (int x = 0; x < matched.cols; ++x) {
-      if (!eyeball_mask.at<uchar>(y, x)) continue;
-      const bool sclera = limbus_distance.at<float>(y, x) > 0;
-      const cv::Vec3f nearby_sclera =
-          sclera && transfer.colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
-      matched.at<cv::Vec3f>(y, x) =
-          transfer.colours.Match(transfer.rendered.at<cv::Vec3f>(y, x), sclera, nearby_sclera);
-    }
+  const int width = matched.cols;
+  for (int pixel : target.foreground) {
+    const int part = target.PartAt(pixel);
+    if (!IsEyeball(part)) continue;
+    const int x = pixel % width, y = pixel / width;
+    const EyeColourMatch& colours = transfer.colours[EyeOfPart(part)];
+    const bool sclera = limbus_distance.at<float>(y, x) > 0;
+    const cv::Vec3f nearby_sclera = sclera && colours.sclera_known() ? photo_sclera.at<cv::Vec3f>(y, x) : cv::Vec3f();
+    matched.at<cv::Vec3f>(y, x) = colours.Match(transfer.rendered.at<cv::Vec3f>(y, x), sclera, nearby_sclera);
   }
   return MixedAcrossEdge(matched, eyeball_mask, limbus_distance);
 }
@@ -725,16 +726,16 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =
-      transfer.colours.sclera_known()
+      transfer.colours.both().sclera_known()
           ? NearbyColour(transfer.transferred, clear_sclera, eyeballs_area,
                          std::max(1.0, options_.sclera_colour_reach * interocular_px),
                          ClearScleraColour(photo, fitted_buffers_, fitted_cornea, source_depth, margin_px,
-                                           transfer.colours.sclera_colour()))
+                                           transfer.colours.both().sclera_colour()))
           : cv::Mat();
   const double feather = std::max(0.8, options_.transfer_feather * interocular_px);
   const double seam = std::max(0.5, options_.seam_blur * interocular_px);
   const cv::Mat limbus_distance = LimbusDistance(target_buffers_, *model_, target_renderer_.posed());
-  const cv::Mat matched = MatchedRendering(transfer, eyeball_mask, limbus_distance, photo_sclera);
+  const cv::Mat matched = MatchedRendering(transfer, target_buffers_, eyeball_mask, limbus_distance, photo_sclera);
   cv::Mat eyeball_layer;
   cv::Mat out = CompositeEyeballs(warped, eyeball_mask, eyeballs_area, transfer, matched, highlights.gain,
                                   highlights.new_specular, feather, seam, eyeball_layer, recipe);
