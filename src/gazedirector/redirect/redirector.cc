@@ -373,8 +373,9 @@ RedirectLayers DebugLayers(const EyelidWarp& warp, const EyeballTransfer& transf
   return layers;
 }
 
-// The rendering's colours matched to the photo's (sclera: as the photo's
-// sclera nearby, `photo_sclera`) over `eyeball_mask`. The match switches from
+// The rendering's colours matched to the photo's, each eye's to its own
+// (sclera: as the photo's sclera nearby, `photo_sclera`), over the new
+// eyeballs (`target`; `eyeball_mask` is their mask). The match switches from
 // the iris's colours to the sclera's at the rendered iris's edge
 // (`limbus_distance`), which a per-pixel choice alone would draw as steps:
 // it is antialiased.
