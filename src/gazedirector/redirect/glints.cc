@@ -88,6 +88,25 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
   return levels;
 }
 
+// Whether the light that `area` adds over the eye `around` it is tinted like
+// the skin beside the eye (`skin`) more than it is grey. A glint has the
+// colour of the light it reflects, near white in a balanced photo; lid skin
+// that a fitted eyeball overlaps has the skin's (d8.jpg's eye in his lens's
+// shade, whose sclera is darker than his lid: an orange streak along the lid
+// was moved as a glint).
+bool TintedLikeSkin(const cv::Mat& eye_photo, const cv::Mat& area, const cv::Mat& around, const cv::Vec3f& skin) {
+  if (cv::countNonZero(around) == 0) return false;
+  const cv::Scalar mean = cv::mean(eye_photo, area);
+  const cv::Vec3f light = cv::Vec3f(static_cast<float>(mean[0]), static_cast<float>(mean[1]), static_cast<float>(mean[2])) -
+                          MedianColour(eye_photo, around);
+  auto chromaticity = [](const cv::Vec3f& colour) {
+    const float sum = colour[0] + colour[1] + colour[2];
+    return sum > 1e-4f ? cv::Vec3f(colour / sum) : cv::Vec3f::all(1.0f / 3);
+  };
+  const cv::Vec3f tint = chromaticity(light);
+  return cv::norm(tint - chromaticity(skin), cv::NORM_L1) < cv::norm(tint - cv::Vec3f::all(1.0f / 3), cv::NORM_L1);
+}
+
 // The cores of one eye's glints: spots on the fitted iris that stand out of
 // their surroundings, lie mostly off its outermost pixels and are mostly
 // surrounded by dark iris (the sclera beside an iris the fit missed by a
@@ -95,8 +114,10 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
 // outshines all of the sclera brings the whole bright patch it lies in, on
 // the iris or just beside it; a small one (at most 3% of the iris, as
 // compressed video leaves a glint) is a glint if it is brighter than the
-// sclera's median and stands 0.15 above its surroundings.
-cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Mat& luminance, const cv::Mat& tophat) {
+// sclera's median and stands 0.15 above its surroundings. Neither may add
+// light tinted like the skin beside the eye (TintedLikeSkin).
+cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Mat& eye_photo, const cv::Mat& luminance,
+                   const cv::Mat& tophat) {
   constexpr double kSmallShare = 0.03, kSmallContrast = 0.15, kLargeShare = 0.15;
   const cv::Mat around = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
   cv::Mat near_iris, spot_labels, patch_labels;
@@ -106,14 +127,16 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
   cv::connectedComponents(near_iris & eye.eyeball & (luminance > levels.bright), patch_labels, 8, CV_32S);
   const int small = std::max(2, static_cast<int>(kSmallShare * static_cast<double>(eye.iris_luminance.size())));
   cv::Mat cores(luminance.size(), CV_8UC1, cv::Scalar(0));
-  // The median luminance of the ring two to three pixels out of `area`,
-  // beyond a glint's own halo (-1 where none of it is on the eyeball).
-  auto surround_of = [&](const cv::Mat& area) {
+  // The ring two to three pixels out of `area` on the eyeball, beyond a
+  // glint's own halo, and its median luminance (-1 where it is empty).
+  auto ring_of = [&](const cv::Mat& area) {
     cv::Mat ring, halo;
     cv::dilate(area, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
     cv::dilate(area, halo, around);
-    return MedianUnder(luminance, ring & eye.eyeball & ~halo, -1);
+    return cv::Mat(ring & eye.eyeball & ~halo);
   };
+  auto surround_of = [&](const cv::Mat& area) { return MedianUnder(luminance, ring_of(area), -1); };
+  const cv::Vec3f skin = MedianColour(eye_photo, ~eye.eyeball);
   // Light along the fitted iris's outermost pixels is the photo's sclera
   // that a fitted iris a pixel beside the photo's covers (Columbia 0004's
   // left eye: moved as a glint, a thin bright crescent across the new sclera).
@@ -138,8 +161,9 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
         const double patch_surround = surround_of(patch);
         if (patch_surround < 0 || patch_surround > levels.dark_surround) continue;
       }
-      cores |= patch;
-    } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast) {
+      if (!TintedLikeSkin(eye_photo, patch, ring_of(patch), skin)) cores |= patch;
+    } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast &&
+               !TintedLikeSkin(eye_photo, spot, ring_of(spot), skin)) {
       cores |= spot;
     }
   }
@@ -169,7 +193,7 @@ Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::M
     cv::transform(eye_photo, eye_luminance, cv::Matx13f(0.114f, 0.587f, 0.299f));
     cv::morphologyEx(eye_luminance, tophat, cv::MORPH_TOPHAT,
                      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(levels.wide, levels.wide)));
-    const cv::Mat cores = GlintCores(pixels, levels, eye_luminance, tophat);
+    const cv::Mat cores = GlintCores(pixels, levels, eye_photo, eye_luminance, tophat);
     const int core_pixels = cv::countNonZero(cores);
     if (core_pixels == 0 || core_pixels > kLargest * iris_pixels) continue;
     cv::Mat glint;
