@@ -68,21 +68,27 @@ cv::Mat MixedAcrossEdge(const cv::Mat& image, const cv::Mat& mask, const cv::Mat
 }
 
 cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
-                     const cv::Vec3f& typical) {
+                     const cv::Mat& typical) {
   constexpr float kTypicalWeight = 0.01f;  // against a blurred density of up to 1
   cv::Mat sum(image.size(), CV_32FC3, cv::Scalar::all(0)), density;
   image.copyTo(sum, shown);
   shown.convertTo(density, CV_32F, 1.0 / 255);
   sum = BlurredWithin(sum, area, sigma);
   density = BlurredWithin(density, area, sigma);
-  cv::Mat nearby(shown.size(), CV_32FC3, cv::Scalar(typical));
+  cv::Mat nearby = typical.clone();
   for (int y = area.y; y < area.y + area.height; ++y) {
     for (int x = area.x; x < area.x + area.width; ++x) {
+      const cv::Vec3f& usual = typical.at<cv::Vec3f>(y, x);
       nearby.at<cv::Vec3f>(y, x) =
-          (sum.at<cv::Vec3f>(y, x) + kTypicalWeight * typical) / (density.at<float>(y, x) + kTypicalWeight);
+          (sum.at<cv::Vec3f>(y, x) + kTypicalWeight * usual) / (density.at<float>(y, x) + kTypicalWeight);
     }
   }
   return nearby;
+}
+
+cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
+                     const cv::Vec3f& typical) {
+  return NearbyColour(image, shown, area, sigma, cv::Mat(shown.size(), CV_32FC3, cv::Scalar(typical)));
 }
 
 double MedianUnder(const cv::Mat& values, const cv::Mat& mask, double none) {

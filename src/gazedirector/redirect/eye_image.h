@@ -44,6 +44,9 @@ cv::Mat MixedAcrossEdge(const cv::Mat& image, const cv::Mat& mask, const cv::Mat
 // near, drawn toward `typical` where few are (and `typical` outside `area`).
 cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
                      const cv::Vec3f& typical);
+// The same with a typical colour per pixel (CV_32FC3, the size of `image`).
+cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
+                     const cv::Mat& typical);
 
 // The median of `values` (CV_32FC1) under `mask` (8-bit), `none` where the mask is empty.
 double MedianUnder(const cv::Mat& values, const cv::Mat& mask, double none);
