@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -136,7 +137,11 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
     return cv::Mat(ring & eye.eyeball & ~halo);
   };
   auto surround_of = [&](const cv::Mat& area) { return MedianUnder(luminance, ring_of(area), -1); };
-  const cv::Vec3f skin = MedianColour(eye_photo, ~eye.eyeball);
+  std::optional<cv::Vec3f> skin;  // the skin beside the eye, once a candidate needs it
+  auto tinted_like_skin = [&](const cv::Mat& area) {
+    if (!skin) skin = MedianColour(eye_photo, ~eye.eyeball);
+    return TintedLikeSkin(eye_photo, area, ring_of(area), *skin);
+  };
   // Light along the fitted iris's outermost pixels is the photo's sclera
   // that a fitted iris a pixel beside the photo's covers (Columbia 0004's
   // left eye: moved as a glint, a thin bright crescent across the new sclera).
@@ -161,9 +166,9 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
         const double patch_surround = surround_of(patch);
         if (patch_surround < 0 || patch_surround > levels.dark_surround) continue;
       }
-      if (!TintedLikeSkin(eye_photo, patch, ring_of(patch), skin)) cores |= patch;
+      if (!tinted_like_skin(patch)) cores |= patch;
     } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast &&
-               !TintedLikeSkin(eye_photo, spot, ring_of(spot), skin)) {
+               !tinted_like_skin(spot)) {
       cores |= spot;
     }
   }

@@ -325,42 +325,39 @@ void KeepFaintReflections(cv::Mat& specular, const RenderBuffers& target, float 
   }
 }
 
-// The photo's clear sclera as the fit showed it in one eye: the median colour
-// of the brighter half of that eye's fitted sclera deeper than `margin_px`
-// inside the fitted opening (lids, lashes and the iris's edge are darker), or
-// `fallback` where fewer than ten pixels show.
-cv::Vec3f ClearScleraColour(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& fitted_cornea,
-                            const cv::Mat& source_depth, float margin_px, int eye, const cv::Vec3f& fallback) {
-  cv::Mat clear(photo.size(), CV_8UC1, cv::Scalar(0));
-  for (int pixel : fitted.foreground) {
-    const int x = pixel % photo.cols, y = pixel / photo.cols;
-    const int part = fitted.PartAt(pixel);
-    if (IsEyeball(part) && EyeOfPart(part) == eye && IsSclera(fitted_cornea, x, y) &&
-        source_depth.at<float>(y, x) > margin_px) {
-      clear.data[pixel] = 255;
-    }
-  }
-  if (cv::countNonZero(clear) < 10) return fallback;
-  cv::Mat luminance;
-  cv::cvtColor(photo, luminance, cv::COLOR_BGR2GRAY);  // Luminance()'s weights
-  clear &= luminance >= MedianUnder(luminance, clear, 0);
-  return MedianColour(photo, clear);
-}
-
-// Per pixel of the new eyeballs (`target`), its own eye's clear sclera
-// (ClearScleraColour; elsewhere both eyes' sclera): what rendered sclera
-// takes where the photo shows none nearby. Both eyes' clear sclera gave d8.jpg's
-// eye in the shade of his glasses his lit eye's pinkish white above its
-// lower lid.
+// The photo's clear sclera as the fit showed it, per pixel of the new
+// eyeballs (`target`) its own eye's: the median colour of the brighter half of
+// that eye's fitted sclera deeper than `margin_px` inside the fitted opening
+// (lids, lashes and the iris's edge are darker), or that eye's colour match's
+// sclera where fewer than ten pixels show (elsewhere both eyes'). It is what
+// rendered sclera takes where the photo shows none nearby: both eyes' clear
+// sclera gave d8.jpg's eye in the shade of his glasses his lit eye's pinkish
+// white above its lower lid.
 cv::Mat ClearScleraOfEachEye(const cv::Mat& photo, const RenderBuffers& fitted, const cv::Mat& fitted_cornea,
                              const cv::Mat& source_depth, float margin_px, const RenderBuffers& target,
                              const EyeColourMatches& colours) {
-  cv::Mat typical(photo.size(), CV_32FC3, cv::Scalar(colours.both().sclera_colour()));
+  std::array<cv::Mat, 2> clear_masks = {cv::Mat(photo.size(), CV_8UC1, cv::Scalar(0)),
+                                        cv::Mat(photo.size(), CV_8UC1, cv::Scalar(0))};
+  for (int pixel : fitted.foreground) {
+    const int x = pixel % photo.cols, y = pixel / photo.cols;
+    const int part = fitted.PartAt(pixel);
+    if (IsEyeball(part) && IsSclera(fitted_cornea, x, y) && source_depth.at<float>(y, x) > margin_px) {
+      clear_masks[EyeOfPart(part)].data[pixel] = 255;
+    }
+  }
+  cv::Mat luminance;
+  cv::cvtColor(photo, luminance, cv::COLOR_BGR2GRAY);  // Luminance()'s weights
   std::array<cv::Vec3f, 2> clear;
   for (int eye = 0; eye < 2; ++eye) {
-    clear[eye] = ClearScleraColour(photo, fitted, fitted_cornea, source_depth, margin_px, eye,
-                                   colours[eye].sclera_colour());
+    cv::Mat& mask = clear_masks[eye];
+    if (cv::countNonZero(mask) < 10) {
+      clear[eye] = colours[eye].sclera_colour();
+      continue;
+    }
+    mask &= luminance >= MedianUnder(luminance, mask, 0);
+    clear[eye] = MedianColour(photo, mask);
   }
+  cv::Mat typical(photo.size(), CV_32FC3, cv::Scalar(colours.both().sclera_colour()));
   for (int pixel : target.foreground) {
     const int part = target.PartAt(pixel);
     if (IsEyeball(part)) typical.at<cv::Vec3f>(pixel / photo.cols, pixel % photo.cols) = clear[EyeOfPart(part)];
