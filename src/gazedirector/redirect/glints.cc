@@ -97,9 +97,10 @@ GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
 // was moved as a glint).
 bool TintedLikeSkin(const cv::Mat& eye_photo, const cv::Mat& area, const cv::Mat& around, const cv::Vec3f& skin) {
   if (cv::countNonZero(around) == 0) return false;
-  const cv::Scalar mean = cv::mean(eye_photo, area);
+  const cv::Rect box = cv::boundingRect(area | around);  // the ring encloses the area
+  const cv::Scalar mean = cv::mean(eye_photo(box), area(box));
   const cv::Vec3f light = cv::Vec3f(static_cast<float>(mean[0]), static_cast<float>(mean[1]), static_cast<float>(mean[2])) -
-                          MedianColour(eye_photo, around);
+                          MedianColour(eye_photo(box), around(box));
   auto chromaticity = [](const cv::Vec3f& colour) {
     const float sum = colour[0] + colour[1] + colour[2];
     return sum > 1e-4f ? cv::Vec3f(colour / sum) : cv::Vec3f::all(1.0f / 3);
@@ -136,11 +137,10 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
     cv::dilate(area, halo, around);
     return cv::Mat(ring & eye.eyeball & ~halo);
   };
-  auto surround_of = [&](const cv::Mat& area) { return MedianUnder(luminance, ring_of(area), -1); };
   std::optional<cv::Vec3f> skin;  // the skin beside the eye, once a candidate needs it
-  auto tinted_like_skin = [&](const cv::Mat& area) {
+  auto tinted_like_skin = [&](const cv::Mat& area, const cv::Mat& ring) {
     if (!skin) skin = MedianColour(eye_photo, ~eye.eyeball);
-    return TintedLikeSkin(eye_photo, area, ring_of(area), *skin);
+    return TintedLikeSkin(eye_photo, area, ring, *skin);
   };
   // Light along the fitted iris's outermost pixels is the photo's sclera
   // that a fitted iris a pixel beside the photo's covers (Columbia 0004's
@@ -154,7 +154,8 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
     double peak = 0;
     cv::Point brightest;
     cv::minMaxLoc(luminance, nullptr, &peak, nullptr, &brightest, spot);
-    const double surround = surround_of(spot);
+    const cv::Mat spot_ring = ring_of(spot);
+    const double surround = MedianUnder(luminance, spot_ring, -1);
     if (surround < 0 || surround > levels.dark_surround) continue;
     if (peak > levels.brightest_sclera && peak > levels.bright) {
       // A large patch (over kLargeShare of the iris) must lie in dark iris
@@ -162,13 +163,14 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
       // photo's covers (d3.mp4 frame 330) would move that sclera as a glint,
       // a white bar across the new iris.
       const cv::Mat patch = patch_labels == patch_labels.at<int>(brightest);
+      const cv::Mat patch_ring = ring_of(patch);
       if (cv::countNonZero(patch) > kLargeShare * static_cast<double>(eye.iris_luminance.size())) {
-        const double patch_surround = surround_of(patch);
+        const double patch_surround = MedianUnder(luminance, patch_ring, -1);
         if (patch_surround < 0 || patch_surround > levels.dark_surround) continue;
       }
-      if (!tinted_like_skin(patch)) cores |= patch;
+      if (!tinted_like_skin(patch, patch_ring)) cores |= patch;
     } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast &&
-               !tinted_like_skin(spot)) {
+               !tinted_like_skin(spot, spot_ring)) {
       cores |= spot;
     }
   }

@@ -448,15 +448,21 @@ std::vector<double> GreyLevels(const cv::Mat& image, const cv::Mat& mask) {
   return levels;
 }
 
-// GreyLevels of each eye apart: the pixels of `mask` left and right of the
-// middle of `eyeballs` (both eyes' mask).
-std::array<std::vector<double>, 2> GreyLevelsByEye(const cv::Mat& image, const cv::Mat& mask, const cv::Mat& eyeballs) {
+// `mask` split between the eyes: its pixels left and right of the middle of
+// `eyeballs` (both eyes' mask).
+std::array<cv::Mat, 2> MaskByEye(const cv::Mat& mask, const cv::Mat& eyeballs) {
   const cv::Rect both = cv::boundingRect(eyeballs);
   const int middle = both.x + both.width / 2;
-  cv::Mat left = mask.clone(), right = mask.clone();
-  left.colRange(middle, mask.cols).setTo(0);
-  right.colRange(0, middle).setTo(0);
-  return {GreyLevels(image, left), GreyLevels(image, right)};
+  std::array<cv::Mat, 2> halves = {mask.clone(), mask.clone()};
+  halves[0].colRange(middle, mask.cols).setTo(0);
+  halves[1].colRange(0, middle).setTo(0);
+  return halves;
+}
+
+// GreyLevels of each eye apart (MaskByEye).
+std::array<std::vector<double>, 2> GreyLevelsByEye(const cv::Mat& image, const cv::Mat& mask, const cv::Mat& eyeballs) {
+  const std::array<cv::Mat, 2> halves = MaskByEye(mask, eyeballs);
+  return {GreyLevels(image, halves[0]), GreyLevels(image, halves[1])};
 }
 
 // The median grey levels of each of d30's irises and scleras where its fit
@@ -825,17 +831,15 @@ TEST(RedirectorTest, EachEyesNewIrisKeepsThatEyesColours) {
   }
 }
 
-// Pixels of `mask` on each eye's side (as GreyLevelsByEye splits them) whose
-// red exceeds their blue by more than 20 grey levels in `image` (8-bit BGR).
+// Pixels of each eye's `mask` (MaskByEye of itself) whose red exceeds their
+// blue by more than 20 grey levels in `image` (8-bit BGR).
 std::array<int, 2> ReddishPixelsByEye(const cv::Mat& image, const cv::Mat& mask) {
   std::vector<cv::Mat> channels;
   cv::split(image, channels);
   cv::Mat red_over_blue;
   cv::subtract(channels[2], channels[0], red_over_blue, cv::noArray(), CV_16S);
-  cv::Mat reddish = (red_over_blue > 20) & mask;
-  const cv::Rect both = cv::boundingRect(mask);
-  const int middle = both.x + both.width / 2;
-  return {cv::countNonZero(reddish.colRange(0, middle)), cv::countNonZero(reddish.colRange(middle, reddish.cols))};
+  const std::array<cv::Mat, 2> halves = MaskByEye((red_over_blue > 20) & mask, mask);
+  return {cv::countNonZero(halves[0]), cv::countNonZero(halves[1])};
 }
 
 // Reddish pixels (ReddishPixelsByEye) in d8.jpg's eye in the lens's shade
