@@ -7,6 +7,19 @@
 #include "gazedirector/util/statistics.h"
 
 namespace gazedirector {
+namespace {
+
+// The luminances of the colour samples (B, G, R) in `samples`[first..first + 2].
+template <std::size_t N>
+std::vector<double> Luminances(const std::array<std::vector<double>, N>& samples, int first) {
+  std::vector<double> luminance(samples[first].size());
+  for (std::size_t i = 0; i < luminance.size(); ++i) {
+    luminance[i] = Luminance(cv::Vec3f(samples[first][i], samples[first + 1][i], samples[first + 2][i]));
+  }
+  return luminance;
+}
+
+}  // namespace
 
 void EyeColourMatch::Add(const cv::Vec3f& photo, const cv::Vec3f& rendered, bool sclera) {
   if (!sclera) {
@@ -43,11 +56,8 @@ cv::Vec3f EyeColourMatch::Match(const cv::Vec3f& rendered, bool sclera, const cv
     return photo_sclera * std::clamp(std::sqrt(Luminance(rendered) / sclera_luminance_), 0.7f, 1.0f);
   }
   if (!sclera && iris_matched_) {
-    cv::Vec3f out;
-    for (int c = 0; c < 3; ++c) {
-      out[c] = std::max(0.0f, iris_photo_[c] + iris_contrast_[c] * (rendered[c] - iris_rendered_[c]));
-    }
-    return out;
+    const float luminance = iris_photo_luminance_ + iris_contrast_ * (Luminance(rendered) - iris_rendered_luminance_);
+    return iris_photo_ * std::max(0.0f, luminance / iris_photo_luminance_);
   }
   return rendered;  // too few samples to match
 }
@@ -64,24 +74,19 @@ void EyeColourMatches::Finish() {
 
 void EyeColourMatch::FinishIris(float photo_sclera) {
   if (iris_[0].size() < kEnough) return;
-  std::vector<double> luminance(iris_[0].size());
-  for (std::size_t i = 0; i < luminance.size(); ++i) {
-    luminance[i] = Luminance(cv::Vec3f(iris_[0][i], iris_[1][i], iris_[2][i]));
-  }
-  const float iris = static_cast<float>(Median(std::move(luminance)));
+  const std::array<double, 3> photo = Quartiles(Luminances(iris_, 0));
+  const std::array<double, 3> rendered = Quartiles(Luminances(iris_, 3));
+  const float iris = static_cast<float>(photo[1]);
   if (photo_sclera > iris) {
     bright_iris_ = iris + kBrightIris * (photo_sclera - iris);
     iris_darkness_ = (photo_sclera - iris) / photo_sclera;
   }
   iris_matched_ = true;
-  for (int c = 0; c < 3; ++c) {
-    const std::array<double, 3> photo = Quartiles(std::move(iris_[c]));
-    const std::array<double, 3> rendered = Quartiles(std::move(iris_[3 + c]));
-    iris_photo_[c] = static_cast<float>(photo[1]);
-    iris_rendered_[c] = static_cast<float>(rendered[1]);
-    iris_contrast_[c] =
-        static_cast<float>(std::clamp((photo[2] - photo[0]) / std::max(rendered[2] - rendered[0], 1e-3), 0.1, 1.5));
-  }
+  for (int c = 0; c < 3; ++c) iris_photo_[c] = static_cast<float>(Median(std::move(iris_[c])));
+  iris_photo_luminance_ = std::max(1e-3f, Luminance(iris_photo_));
+  iris_rendered_luminance_ = static_cast<float>(rendered[1]);
+  iris_contrast_ =
+      static_cast<float>(std::clamp((photo[2] - photo[0]) / std::max(rendered[2] - rendered[0], 1e-3), 0.1, 1.5));
 }
 
 }  // namespace gazedirector

@@ -10,8 +10,10 @@ namespace gazedirector {
 // The rendering's colours matched to the photo's eye, from samples where
 // both are known, separately for the iris (the cornea, which shows it) and
 // the sclera: medians, which the few skin pixels a slightly wide fit lets in
-// cannot tint. The rendered iris takes the photo iris's median and spread: a
-// dark, even iris must not show the iris texture's brighter ring.
+// cannot tint. The rendered iris takes the photo iris's median colour, its
+// brightness varying as the rendering's at the photo's contrast: a dark, even
+// iris must not show the iris texture's brighter ring, nor a grey one the
+// texture's hues.
 class EyeColourMatch {
  public:
   // The photo's colour `photo` (BGR) where the rendering shows `rendered`.
@@ -57,7 +59,9 @@ class EyeColourMatch {
   static constexpr float kBrightIris = 0.6f;  // of the way from the photo's iris to its sclera
   std::array<std::vector<double>, 6> iris_;  // the photo's iris (B, G, R) and the rendering's there
   bool iris_matched_ = false;
-  cv::Vec3f iris_photo_, iris_rendered_, iris_contrast_;  // median irises, and their spreads' ratio
+  cv::Vec3f iris_photo_;  // the photo's median iris
+  float iris_photo_luminance_ = 1, iris_rendered_luminance_ = 0;
+  float iris_contrast_ = 1;  // the ratio of their luminances' spreads
   float bright_iris_ = -1;
   float iris_darkness_ = 0;
 };

@@ -36,6 +36,29 @@ TEST(EyeColourMatchTest, TheRenderedIrisTakesThePhotoIrissMedianAndSpread) {
   EXPECT_LT(match.bright_iris(), 0.6f);
 }
 
+// The iris texture has hues of its own (an orange ring, a dark rim); matched
+// channel by channel, a pixel of another hue than the rendering's median
+// kept that difference, and a grey-green iris got brown specks (d19.jpg).
+// The rendered iris now takes the photo iris's colour, only its brightness
+// following the rendering.
+TEST(EyeColourMatchTest, TheRenderedIrisTakesThePhotoIrissHueAtEveryBrightness) {
+  EyeColourMatch match;
+  for (int i = 0; i <= 40; ++i) {
+    const float t = i / 40.0f;
+    const float photo = 0.3f + 0.1f * t, rendered = 0.3f + 0.2f * t;
+    match.Add({0.9f * photo, photo, 0.95f * photo}, {rendered, rendered, rendered}, /*sclera=*/false);
+    match.Add({0.8f, 0.8f, 0.85f}, {0.9f, 0.9f, 0.9f}, /*sclera=*/true);
+  }
+  match.Finish();
+  for (const cv::Vec3f& rendered : {cv::Vec3f(0.1f, 0.25f, 0.4f), cv::Vec3f(0.45f, 0.4f, 0.3f)}) {
+    const cv::Vec3f matched = match.Match(rendered, false, {});
+    EXPECT_NEAR(matched[0] / matched[1], 0.9f, 0.01f) << rendered;
+    EXPECT_NEAR(matched[2] / matched[1], 0.95f, 0.01f) << rendered;
+  }
+  // Brightness follows the rendering's, at the photo's contrast.
+  EXPECT_LT(Luminance(match.Match({0.1f, 0.25f, 0.4f}, false, {})), Luminance(match.Match({0.4f, 0.4f, 0.4f}, false, {})));
+}
+
 TEST(EyeColourMatchTest, TooFewSamplesLeaveTheRenderingAsItIs) {
   EyeColourMatch match;
   for (int i = 0; i < 5; ++i) {

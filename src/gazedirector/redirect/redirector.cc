@@ -40,6 +40,8 @@ constexpr float kFresnel = 0.028f;
 // not reused: the model places a highlight only roughly, and what it misses
 // would travel with the iris. Fainter reflections are subtracted instead.
 constexpr float kHighlight = 0.06f;
+// The largest hole in the carried iris filled from the iris around it, as a share of its eye's iris.
+constexpr float kMostIrisHole = 0.05f;
 
 // Reused sclera takes the model's change of shading from where it was to
 // where it is, within this range: more light is allowed less, since the
@@ -310,6 +312,69 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
     }
   }
   return clear_sclera;
+}
+
+// Small holes in the photo's iris carried onto the new one (samples at the
+// fitted eye's modelled highlight, specks of bright "iris"), enclosed by
+// carried iris, take the sample of the nearest carried iris pixel. The
+// rendering would fill them with whatever its own iris shows there: a dark
+// speck where its pupil lies beside the photo's (d19.jpg).
+void FillIrisHoles(EyeballTransfer& transfer, const RenderBuffers& target, const cv::Mat& cornea) {
+  const cv::Size size = transfer.transfer_mask.size();
+  cv::Mat holes(size, CV_8UC1, cv::Scalar(0));
+  cv::Mat not_carried_iris(size, CV_8UC1, cv::Scalar(255));  // zero: carried iris, which holes draw from
+  std::array<int, 2> iris_pixels = {0, 0};
+  for (int pixel : target.foreground) {
+    const int part = target.PartAt(pixel);
+    if (!IsEyeball(part) || IsSclera(cornea, pixel % size.width, pixel / size.width)) continue;
+    ++iris_pixels[EyeOfPart(part)];
+    if (transfer.transfer_mask.data[pixel] == 255) not_carried_iris.data[pixel] = 0;
+    if (transfer.transfer_mask.data[pixel] == 0) holes.data[pixel] = 255;
+  }
+  cv::Mat labels;
+  const int count = cv::connectedComponents(holes, labels, 8, CV_32S);
+  if (count <= 1) return;
+  // A hole is filled when small and bordered by carried iris alone.
+  std::vector<int> area(count, 0);
+  std::vector<bool> enclosed(count, true);
+  std::vector<int> eye(count, 0);
+  for (int y = 0; y < size.height; ++y) {
+    for (int x = 0; x < size.width; ++x) {
+      const int label = labels.at<int>(y, x);
+      if (label == 0) continue;
+      ++area[label];
+      eye[label] = EyeOfPart(target.PartAt(y * size.width + x));
+      for (const cv::Point& step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+        const cv::Point next(x + step.x, y + step.y);
+        const bool inside = next.x >= 0 && next.y >= 0 && next.x < size.width && next.y < size.height;
+        if (!inside || (labels.at<int>(next) != label && not_carried_iris.at<uchar>(next))) enclosed[label] = false;
+      }
+    }
+  }
+  cv::Mat distance, nearest;
+  cv::distanceTransform(not_carried_iris, distance, nearest, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+  std::vector<int> carried_at;  // by label of the carried pixel: its index
+  for (int pixel = 0; pixel < static_cast<int>(size.area()); ++pixel) {
+    if (not_carried_iris.data[pixel]) continue;
+    const int label = nearest.at<int>(pixel / size.width, pixel % size.width);
+    if (label >= static_cast<int>(carried_at.size())) carried_at.resize(label + 1, -1);
+    carried_at[label] = pixel;
+  }
+  for (int pixel = 0; pixel < static_cast<int>(size.area()); ++pixel) {
+    const int x = pixel % size.width, y = pixel / size.width;
+    const int label = labels.at<int>(y, x);
+    if (label == 0 || !enclosed[label] || area[label] > kMostIrisHole * iris_pixels[eye[label]]) continue;
+    const int from = carried_at[nearest.at<int>(y, x)];
+    const cv::Point at(from % size.width, from / size.width);
+    transfer.transferred.at<cv::Vec3f>(y, x) = transfer.transferred.at<cv::Vec3f>(at);
+    transfer.moved_by.at<float>(y, x) = transfer.moved_by.at<float>(at);
+    transfer.transfer_mask.data[pixel] = 255;
+    if (!transfer.source.empty()) {
+      transfer.source.at<cv::Vec2f>(y, x) = transfer.source.at<cv::Vec2f>(at);
+      transfer.highlight.at<cv::Vec3f>(y, x) = transfer.highlight.at<cv::Vec3f>(at);
+      transfer.relit_by.at<float>(y, x) = transfer.relit_by.at<float>(at);
+    }
+  }
 }
 
 // Caps `specular` at a luminance of `most` on the eyeballs of `target`: the
@@ -745,6 +810,7 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
        highlights.old_specular, slit, fitted_luminance},
       options_.transfer_eyeballs, recipe != nullptr);
   const cv::Mat clear_sclera = DropMisleadingTransfers(transfer, target_buffers_, cornea, target_depth, margin_px);
+  FillIrisHoles(transfer, target_buffers_, cornea);
   const cv::Rect eyeballs_area = cv::boundingRect(eyeball_mask);
   const cv::Mat photo_sclera =
       transfer.colours.both().sclera_known()
