@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -314,6 +316,28 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
   return clear_sclera;
 }
 
+// The pixel of `carried` (8-bit, non-zero) nearest to `at`, searched out to
+// `reach` pixels; `at` itself where none is.
+cv::Point NearestCarried(const cv::Mat& carried, const cv::Point& at, int reach) {
+  const cv::Rect image(0, 0, carried.cols, carried.rows);
+  cv::Point nearest = at;
+  int best = std::numeric_limits<int>::max();
+  for (int radius = 1; radius <= reach; ++radius) {
+    // A pixel on this square ring is at least `radius` away.
+    if (best <= radius * radius) break;
+    for (int dy = -radius; dy <= radius; ++dy) {
+      const int step = std::abs(dy) == radius ? 1 : 2 * radius;
+      for (int dx = -radius; dx <= radius; dx += step) {
+        const cv::Point p(at.x + dx, at.y + dy);
+        if (!image.contains(p) || !carried.at<uchar>(p) || dx * dx + dy * dy >= best) continue;
+        best = dx * dx + dy * dy;
+        nearest = p;
+      }
+    }
+  }
+  return nearest;
+}
+
 // Small holes in the photo's iris carried onto the new one (samples at the
 // fitted eye's modelled highlight, specks of bright "iris"), enclosed by
 // carried iris, take the sample of the nearest carried iris pixel. The
@@ -321,58 +345,46 @@ cv::Mat DropMisleadingTransfers(EyeballTransfer& transfer, const RenderBuffers& 
 // speck where its pupil lies beside the photo's (d19.jpg).
 void FillIrisHoles(EyeballTransfer& transfer, const RenderBuffers& target, const cv::Mat& cornea) {
   const cv::Size size = transfer.transfer_mask.size();
-  cv::Mat holes(size, CV_8UC1, cv::Scalar(0));
-  cv::Mat not_carried_iris(size, CV_8UC1, cv::Scalar(255));  // zero: carried iris, which holes draw from
+  cv::Mat holes(size, CV_8UC1, cv::Scalar(0)), carried(size, CV_8UC1, cv::Scalar(0));  // iris pixels
   std::array<int, 2> iris_pixels = {0, 0};
   for (int pixel : target.foreground) {
     const int part = target.PartAt(pixel);
     if (!IsEyeball(part) || IsSclera(cornea, pixel % size.width, pixel / size.width)) continue;
     ++iris_pixels[EyeOfPart(part)];
-    if (transfer.transfer_mask.data[pixel] == 255) not_carried_iris.data[pixel] = 0;
+    if (transfer.transfer_mask.data[pixel] == 255) carried.data[pixel] = 255;
     if (transfer.transfer_mask.data[pixel] == 0) holes.data[pixel] = 255;
   }
-  cv::Mat labels;
-  const int count = cv::connectedComponents(holes, labels, 8, CV_32S);
-  if (count <= 1) return;
-  // A hole is filled when small and bordered by carried iris alone.
-  std::vector<int> area(count, 0);
-  std::vector<bool> enclosed(count, true);
-  std::vector<int> eye(count, 0);
-  for (int y = 0; y < size.height; ++y) {
-    for (int x = 0; x < size.width; ++x) {
-      const int label = labels.at<int>(y, x);
-      if (label == 0) continue;
-      ++area[label];
-      eye[label] = EyeOfPart(target.PartAt(y * size.width + x));
-      for (const cv::Point& step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
-        const cv::Point next(x + step.x, y + step.y);
-        const bool inside = next.x >= 0 && next.y >= 0 && next.x < size.width && next.y < size.height;
-        if (!inside || (labels.at<int>(next) != label && not_carried_iris.at<uchar>(next))) enclosed[label] = false;
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(holes, labels, stats, centroids, 8, CV_32S);
+  const cv::Rect image(0, 0, size.width, size.height);
+  for (int label = 1; label < count; ++label) {
+    const cv::Rect box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
+                       stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    if (stats.at<int>(label, cv::CC_STAT_AREA) > kMostIrisHole * std::max(iris_pixels[0], iris_pixels[1])) continue;
+    // Its pixels, and whether anything but carried iris borders them.
+    std::vector<cv::Point> pixels;
+    bool enclosed = true;
+    for (int y = box.y; y < box.br().y && enclosed; ++y) {
+      for (int x = box.x; x < box.br().x; ++x) {
+        if (labels.at<int>(y, x) != label) continue;
+        pixels.emplace_back(x, y);
+        for (const cv::Point& next : {cv::Point(x + 1, y), cv::Point(x - 1, y), cv::Point(x, y + 1), cv::Point(x, y - 1)}) {
+          if (!image.contains(next) || (labels.at<int>(next) != label && !carried.at<uchar>(next))) enclosed = false;
+        }
       }
     }
-  }
-  cv::Mat distance, nearest;
-  cv::distanceTransform(not_carried_iris, distance, nearest, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-  std::vector<int> carried_at;  // by label of the carried pixel: its index
-  for (int pixel = 0; pixel < static_cast<int>(size.area()); ++pixel) {
-    if (not_carried_iris.data[pixel]) continue;
-    const int label = nearest.at<int>(pixel / size.width, pixel % size.width);
-    if (label >= static_cast<int>(carried_at.size())) carried_at.resize(label + 1, -1);
-    carried_at[label] = pixel;
-  }
-  for (int pixel = 0; pixel < static_cast<int>(size.area()); ++pixel) {
-    const int x = pixel % size.width, y = pixel / size.width;
-    const int label = labels.at<int>(y, x);
-    if (label == 0 || !enclosed[label] || area[label] > kMostIrisHole * iris_pixels[eye[label]]) continue;
-    const int from = carried_at[nearest.at<int>(y, x)];
-    const cv::Point at(from % size.width, from / size.width);
-    transfer.transferred.at<cv::Vec3f>(y, x) = transfer.transferred.at<cv::Vec3f>(at);
-    transfer.moved_by.at<float>(y, x) = transfer.moved_by.at<float>(at);
-    transfer.transfer_mask.data[pixel] = 255;
-    if (!transfer.source.empty()) {
-      transfer.source.at<cv::Vec2f>(y, x) = transfer.source.at<cv::Vec2f>(at);
-      transfer.highlight.at<cv::Vec3f>(y, x) = transfer.highlight.at<cv::Vec3f>(at);
-      transfer.relit_by.at<float>(y, x) = transfer.relit_by.at<float>(at);
+    const int eye = EyeOfPart(target.PartAt(pixels.front().y * size.width + pixels.front().x));
+    if (!enclosed || pixels.size() > kMostIrisHole * iris_pixels[eye]) continue;
+    for (const cv::Point& at : pixels) {
+      const cv::Point from = NearestCarried(carried, at, box.width + box.height);
+      transfer.transferred.at<cv::Vec3f>(at) = transfer.transferred.at<cv::Vec3f>(from);
+      transfer.moved_by.at<float>(at) = transfer.moved_by.at<float>(from);
+      transfer.transfer_mask.at<uchar>(at) = 255;
+      if (!transfer.source.empty()) {
+        transfer.source.at<cv::Vec2f>(at) = transfer.source.at<cv::Vec2f>(from);
+        transfer.highlight.at<cv::Vec3f>(at) = transfer.highlight.at<cv::Vec3f>(from);
+        transfer.relit_by.at<float>(at) = transfer.relit_by.at<float>(from);
+      }
     }
   }
 }
