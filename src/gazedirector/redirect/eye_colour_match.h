@@ -47,7 +47,7 @@ class EyeColourMatch {
 
  private:
   // The bright-iris threshold (none where the sclera is unknown: -1), and
-  // the photo iris's median and spread, which the rendered iris takes.
+  // the photo iris's median colour and luminance spread, which the rendered iris takes.
   void FinishIris(float photo_sclera);
 
   static constexpr std::size_t kEnough = 10;  // samples
