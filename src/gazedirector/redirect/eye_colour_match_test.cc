@@ -56,7 +56,8 @@ TEST(EyeColourMatchTest, TheRenderedIrisTakesThePhotoIrissHueAtEveryBrightness) 
     EXPECT_NEAR(matched[2] / matched[1], 0.95f, 0.01f) << rendered;
   }
   // Brightness follows the rendering's, at the photo's contrast.
-  EXPECT_LT(Luminance(match.Match({0.1f, 0.25f, 0.4f}, false, {})), Luminance(match.Match({0.4f, 0.4f, 0.4f}, false, {})));
+  EXPECT_LT(Luminance(match.Match({0.1f, 0.25f, 0.4f}, false, {})),
+            Luminance(match.Match({0.4f, 0.4f, 0.4f}, false, {})));
 }
 
 TEST(EyeColourMatchTest, TooFewSamplesLeaveTheRenderingAsItIs) {

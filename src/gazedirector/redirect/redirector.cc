@@ -360,15 +360,16 @@ void FillIrisHoles(EyeballTransfer& transfer, const RenderBuffers& target, const
   for (int label = 1; label < count; ++label) {
     const cv::Rect box(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
                        stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    if (stats.at<int>(label, cv::CC_STAT_AREA) > kMostIrisHole * std::max(iris_pixels[0], iris_pixels[1])) continue;
-    // Its pixels, and whether anything but carried iris borders them.
+    // Its pixels, and whether anything but carried iris borders them (the
+    // scan stops at the first row that shows it does).
     std::vector<cv::Point> pixels;
     bool enclosed = true;
     for (int y = box.y; y < box.br().y && enclosed; ++y) {
       for (int x = box.x; x < box.br().x; ++x) {
         if (labels.at<int>(y, x) != label) continue;
         pixels.emplace_back(x, y);
-        for (const cv::Point& next : {cv::Point(x + 1, y), cv::Point(x - 1, y), cv::Point(x, y + 1), cv::Point(x, y - 1)}) {
+        for (const cv::Point& step : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+          const cv::Point next(x + step.x, y + step.y);
           if (!image.contains(next) || (labels.at<int>(next) != label && !carried.at<uchar>(next))) enclosed = false;
         }
       }
