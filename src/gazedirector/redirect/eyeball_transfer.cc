@@ -198,7 +198,6 @@ void FillIrisHoles(EyeballTransfer& transfer, const RenderBuffers& target, const
     for (const cv::Point& at : pixels) {
       const cv::Point from = NearestCarried(carried, at, box.width + box.height);
       transfer.transferred.at<cv::Vec3f>(at) = transfer.transferred.at<cv::Vec3f>(from);
-      transfer.moved_by.at<float>(at) = transfer.moved_by.at<float>(from);
       transfer.transfer_mask.at<uchar>(at) = 255;
       if (!transfer.source.empty()) {
         transfer.source.at<cv::Vec2f>(at) = transfer.source.at<cv::Vec2f>(from);

@@ -756,8 +756,8 @@ int DarkSpecksInTheIrises(const Redirected& redirected, const Camera& camera, co
 
 // A photo of ../shared/data fitted as `track` and `redirect` fit a photo,
 // once per test binary.
-const FittedFrame& TrackedStill(const std::string& path) {
-  static std::map<std::string, FittedFrame> stills;
+const testing::FittedStill& TrackedStill(const std::string& path) {
+  static std::map<std::string, testing::FittedStill> stills;
   auto [at, inserted] = stills.try_emplace(path);
   if (inserted) {
     GazeTracker tracker(SharedModel(), testing::SharedLandmarkDetector(), testing::SharedMeanFace());
@@ -765,7 +765,7 @@ const FittedFrame& TrackedStill(const std::string& path) {
     const Camera camera = Camera::Default(image.cols, image.rows);
     const std::vector<FaceFit> fits = tracker.ProcessImage(image, camera);
     EXPECT_EQ(fits.size(), 1u) << path;
-    at->second = FittedFrame{image, camera, fits.empty() ? FitResult{} : fits[0].fit};
+    at->second = testing::FittedStill{{image, camera, {}}, fits.empty() ? FitResult{} : fits[0].fit};
   }
   return at->second;
 }
@@ -778,16 +778,15 @@ const FittedFrame& TrackedStill(const std::string& path) {
 // that highlight left dark specks and arcs in the turned irises.
 TEST(RedirectorTest, NarrowPupilsLeaveNoDarkSpecksInTurnedIrises) {
   constexpr double kHisPupils = 0.25;  // of the iris's radius, measured on the photo: about 0.2
-  const FittedFrame& d19 = TrackedStill("images/d19.jpg");
+  const testing::FittedStill& d19 = TrackedStill("images/d19.jpg");
   ASSERT_TRUE(d19.fit.good) << d19.fit.note;
-  const testing::FittedStill photo{{d19.image, d19.camera, {}}, d19.fit};
   Redirector redirector(SharedModel());
   int specks = 0;
   for (const auto& [pitch, yaw] : {std::pair{0.0, 10.0}, {0.0, -10.0}, {10.0, 0.0}, {-10.0, 0.0}}) {
     Parameters target = d19.fit.phi;
     target.gaze_pitch() += pitch;
     target.gaze_yaw() += yaw;
-    const Redirected turned = RedirectPhoto(redirector, d19.fit.phi, target, photo);
+    const Redirected turned = RedirectPhoto(redirector, d19.fit.phi, target, d19);
     ASSERT_TRUE(turned.report.redirected[0] && turned.report.redirected[1]) << turned.report.note;
     const int these = DarkSpecksInTheIrises(turned, d19.camera, target, kHisPupils);
     std::printf("pitch %+.0f yaw %+.0f: %d dark specks in the irises\n", pitch, yaw, these);
@@ -805,12 +804,10 @@ TEST(RedirectorTest, NarrowPupilsLeaveNoDarkSpecksInTurnedIrises) {
 // show 0, 0, 0, 4 and 0 dark specks (the 4 his pupil, drawn a little larger)
 // against his own 2; before, 3, 6, 5, 9 and 0.
 TEST(RedirectorTest, SmallHolesInTheCarriedIrisTakeTheIrisAroundThem) {
-  const FittedFrame& d19 = TrackedStill("images/d19.jpg");
+  const testing::FittedStill& d19 = TrackedStill("images/d19.jpg");
   ASSERT_TRUE(d19.fit.good) << d19.fit.note;
-  const testing::FittedStill photo{{d19.image, d19.camera, {}}, d19.fit};
   Redirector redirector(SharedModel());
-  const Redirected as_fitted = RedirectPhoto(redirector, d19.fit.phi, d19.fit.phi, photo);
-  Redirected his_own = as_fitted;
+  Redirected his_own = RedirectPhoto(redirector, d19.fit.phi, d19.fit.phi, d19);  // for its layers
   his_own.image = d19.image;
   const int his = DarkSpecksInTheIrises(his_own, d19.camera, d19.fit.phi, 0);
   std::printf("his own irises: %d dark specks\n", his);
@@ -818,7 +815,7 @@ TEST(RedirectorTest, SmallHolesInTheCarriedIrisTakeTheIrisAroundThem) {
   for (const GazeTarget& look : {GazeTarget::Camera(), GazeTarget::Offset(10, 0), GazeTarget::Offset(-10, 0),
                                  GazeTarget::Offset(0, 10), GazeTarget::Offset(0, -10)}) {
     const Parameters target = Retarget(d19.fit.phi, look);
-    const Redirected turned = RedirectPhoto(redirector, d19.fit.phi, target, photo);
+    const Redirected turned = RedirectPhoto(redirector, d19.fit.phi, target, d19);
     ASSERT_TRUE(turned.report.redirected[0] && turned.report.redirected[1]) << turned.report.note;
     const int these = DarkSpecksInTheIrises(turned, d19.camera, target, 0);
     std::printf("%s: %d dark specks in the new irises\n", look.Describe().c_str(), these);
@@ -847,15 +844,14 @@ std::array<double, 2> IrisLevels(const cv::Mat& image, const RedirectLayers& lay
 // 10 aside, its median grey level was 27, 34 and 30 against his 52. Each eye's
 // new iris keeps its own grey now (49, 53, 43).
 TEST(RedirectorTest, EachEyesNewIrisKeepsThatEyesColours) {
-  const FittedFrame& d8 = TrackedStill("images/d8.jpg");
+  const testing::FittedStill& d8 = TrackedStill("images/d8.jpg");
   ASSERT_TRUE(d8.fit.good) << d8.fit.note;
-  const testing::FittedStill photo{{d8.image, d8.camera, {}}, d8.fit};
   Redirector redirector(SharedModel());
-  const Redirected as_fitted = RedirectPhoto(redirector, d8.fit.phi, d8.fit.phi, photo);
+  const Redirected as_fitted = RedirectPhoto(redirector, d8.fit.phi, d8.fit.phi, d8);
   const std::array<double, 2> his = IrisLevels(d8.image(as_fitted.report.region), as_fitted.layers);
   ASSERT_GT(his[1], his[0] + 15) << "the image-right eye is the lit one";
   for (const GazeTarget& target : {GazeTarget::Camera(), GazeTarget::Offset(10, 0), GazeTarget::Offset(0, -10)}) {
-    const Redirected turned = RedirectPhoto(redirector, d8.fit.phi, Retarget(d8.fit.phi, target), photo);
+    const Redirected turned = RedirectPhoto(redirector, d8.fit.phi, Retarget(d8.fit.phi, target), d8);
     ASSERT_TRUE(turned.report.redirected[0] && turned.report.redirected[1]) << turned.report.note;
     const std::array<double, 2> now = IrisLevels(turned.image(turned.report.region), turned.layers);
     std::printf("irises %.0f / %.0f grey levels, redirected %.0f / %.0f\n", his[0], his[1], now[0], now[1]);
@@ -881,14 +877,13 @@ struct ShadedEyeReds {
   std::vector<int> turned;
 };
 ShadedEyeReds ShadedEyeReddishPixels(const std::vector<GazeTarget>& targets) {
-  const FittedFrame& d8 = TrackedStill("images/d8.jpg");
+  const testing::FittedStill& d8 = TrackedStill("images/d8.jpg");
   EXPECT_TRUE(d8.fit.good) << d8.fit.note;
-  const testing::FittedStill photo{{d8.image, d8.camera, {}}, d8.fit};
   Redirector redirector(SharedModel());
-  const Redirected as_fitted = RedirectPhoto(redirector, d8.fit.phi, d8.fit.phi, photo);
+  const Redirected as_fitted = RedirectPhoto(redirector, d8.fit.phi, d8.fit.phi, d8);
   ShadedEyeReds reds{ReddishPixelsByEye(d8.image(as_fitted.report.region), as_fitted.layers.eyeball_mask)[0], {}};
   for (const GazeTarget& target : targets) {
-    const Redirected turned = RedirectPhoto(redirector, d8.fit.phi, Retarget(d8.fit.phi, target), photo);
+    const Redirected turned = RedirectPhoto(redirector, d8.fit.phi, Retarget(d8.fit.phi, target), d8);
     EXPECT_TRUE(turned.report.redirected[0] && turned.report.redirected[1]) << turned.report.note;
     reds.turned.push_back(ReddishPixelsByEye(turned.image(turned.report.region), turned.layers.eyeball_mask)[0]);
     std::printf("%s: %d reddish pixels in the shaded eye (the photo: %d)\n", target.Describe().c_str(),
