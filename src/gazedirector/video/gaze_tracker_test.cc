@@ -11,10 +11,13 @@
 namespace gazedirector {
 namespace {
 
+// d14.mp4's first eight frames: both eyes open, the gaze level. (Not d3.mp4,
+// whose frame 5 starts a wink: the one lid closure of the model cannot fit it,
+// and the landmarks do not see it yet; see docs/known-gaps.md.)
 TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
   const auto model = testing::SharedModel();
   GazeTracker tracker(model, testing::SharedLandmarkDetector(), testing::SharedMeanFace());
-  VideoReader reader(testing::DataPath("video/d3.mp4"));
+  VideoReader reader(testing::DataPath("video/d14.mp4"));
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
   cv::Mat frame;
   std::vector<FaceFit> track;
