@@ -11,7 +11,7 @@
 namespace gazedirector {
 namespace {
 
-// d14.mp4's first eight frames: both eyes open, the gaze level. (Not d3.mp4,
+// d14.mp4's first eight frames: both eyes open, looking near the lens. (Not d3.mp4,
 // whose frame 5 starts a wink: the one lid closure of the model cannot fit it,
 // and the landmarks do not see it yet; see docs/known-gaps.md.)
 TEST(GazeTrackerTest, WarmStartsHoldSettledParametersAndStaySteady) {
