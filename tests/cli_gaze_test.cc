@@ -109,6 +109,7 @@ TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
     EXPECT_TRUE(fs::exists(dir / "debug" / name)) << name;
   }
   EXPECT_NE(output.find("redirected"), std::string::npos) << output;
+  EXPECT_EQ(output.find("beyond the eyes' reach"), std::string::npos) << output;
 }
 
 TEST(CliGazeTest, RedirectKeepsASixteenBitPhotosAlphaAndEveryPixelAwayFromTheEyes) {
@@ -475,6 +476,17 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
             0)
       << output;
   EXPECT_EQ(CountFrames(dir / "left.mp4"), CountFrames(input));
+  EXPECT_EQ(output.find("beyond the eyes' reach"), std::string::npos) << output;
+  // A point behind her head: the eyes turn as far toward it as they can, and the command says so once.
+  ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "behind.mp4") +
+                       " --look-at 0,0,5000",
+                   &output),
+            0)
+      << output;
+  const std::string warning = "target lay beyond the eyes' reach";
+  const auto warned = output.find(warning);
+  ASSERT_NE(warned, std::string::npos) << output;
+  EXPECT_EQ(output.find("beyond the eyes' reach", warned + warning.size()), std::string::npos) << output;
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 

@@ -175,6 +175,10 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
       continue;
     }
     const Parameters target = script.TargetAt(fit.phi, 0);
+    if (AtTheEyesReach(target)) {
+      spdlog::warn("face {}: {} lies beyond the eyes' reach ({}); they look as far toward it as they can",
+                   fit.face_id, script.Describe(), ReachDescription());
+    }
     RedirectLayers layers;
     const RedirectReport report = redirector.Redirect(result, camera, fit.phi, target, options.debug_dir.empty() ? nullptr : &layers);
     if (!options.debug_dir.empty()) {
@@ -372,7 +376,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
   Progress progress("redirect", info.frame_count, "frames", options.common.quiet);
   cv::Mat frame;
-  long redirected_frames = 0, untouched = 0;
+  long redirected_frames = 0, untouched = 0, beyond_reach = 0;
   while (reader.Read(frame)) {
     ThrowIfInterrupted();
     const long index = reader.frame_index();
@@ -388,12 +392,14 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
         }
         const double weight = weights.at(index).at(fit.face_id);
         if (weight <= 0) continue;  // a blink: keep the original
-        const Parameters target = BlendGaze(fit.phi, script.TargetAt(fit.phi, time), weight);
+        const Parameters scripted = script.TargetAt(fit.phi, time);
+        const Parameters target = BlendGaze(fit.phi, scripted, weight);
         const auto chosen = environments.find(fit.face_id);
         redirector.options().environment = chosen == environments.end() ? -1 : chosen->second;
         const RedirectReport report = redirector.Redirect(result, camera, fit.phi, target);
         if (report.redirected[0] || report.redirected[1]) {
           any = true;
+          beyond_reach += AtTheEyesReach(scripted) ? 1 : 0;
           if (chosen == environments.end()) environments[fit.face_id] = report.environment;
         }
       }
@@ -405,6 +411,11 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   progress.Finish();
   WarnIfTruncated(reader, options.input);
   writer.Finish();
+  if (beyond_reach > 0) {
+    spdlog::warn("for {} redirected face{} across the frames the target lay beyond the eyes' reach ({}); they looked "
+                 "as far toward it as they could",
+                 beyond_reach, beyond_reach == 1 ? "" : "s", ReachDescription());
+  }
   spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
                "untouched) -> {}",
                options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off->size(),

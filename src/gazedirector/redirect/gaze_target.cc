@@ -12,8 +12,8 @@
 namespace gazedirector {
 namespace {
 
-// The eye's range of motion, degrees (the model's lids stop looking natural beyond it).
-constexpr double kMaxPitch = 30, kMaxYaw = 50, kMaxVergence = 30;
+// How far re-posed eyes may converge, degrees.
+constexpr double kMaxVergence = 30;
 
 // From the model's gaze convention: d = (sin y cos p, -sin p, -cos y cos p).
 Eigen::Vector3d DirectionOf(double pitch_deg, double yaw_deg) { return EyeRegionModel::GazeInHead(pitch_deg, yaw_deg); }
@@ -136,12 +136,21 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollo
       out.gaze_yaw() += target.yaw_deg;
       break;
   }
-  out.gaze_pitch() = std::clamp(out.gaze_pitch(), -kMaxPitch, kMaxPitch);
-  out.gaze_yaw() = std::clamp(out.gaze_yaw(), -kMaxYaw, kMaxYaw);
+  out.gaze_pitch() = std::clamp(out.gaze_pitch(), -kMaxRedirectPitchDeg, kMaxRedirectPitchDeg);
+  out.gaze_yaw() = std::clamp(out.gaze_yaw(), -kMaxRedirectYawDeg, kMaxRedirectYawDeg);
   out.vergence() = std::clamp(out.vergence(), -2.0, kMaxVergence);
   const double change = out.gaze_pitch() - phi.gaze_pitch();
   out.eyelid_pitch() = phi.eyelid_pitch() + (change < 0 ? follow.down : follow.up) * change;
   return out;
+}
+
+bool AtTheEyesReach(const Parameters& retargeted) {
+  return std::abs(retargeted.gaze_pitch()) >= kMaxRedirectPitchDeg || std::abs(retargeted.gaze_yaw()) >= kMaxRedirectYawDeg;
+}
+
+std::string ReachDescription() {
+  return fmt::format("the eyes turn at most {:g} deg aside and {:g} deg up or down", kMaxRedirectYawDeg,
+                     kMaxRedirectPitchDeg);
 }
 
 Parameters BlendGaze(const Parameters& a, const Parameters& b, double t) {

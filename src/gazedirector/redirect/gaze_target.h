@@ -48,10 +48,20 @@ struct EyelidFollow {
   double up = 0.4;
 };
 
+// How far re-posed eyes may turn from looking ahead in the head, degrees
+// (the model's lids stop looking natural beyond it).
+inline constexpr double kMaxRedirectPitchDeg = 30;
+inline constexpr double kMaxRedirectYawDeg = 50;
+
 // Φ re-posed to look at `target`: gaze pitch, yaw and (for points) vergence,
 // with the eyelids following the change of pitch as `follow` says, within the
-// eye's range.
+// eye's range: a target beyond it (far aside, behind the head) is looked
+// toward as far as the eyes turn.
 Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollow follow = {});
+// Whether a Φ from Retarget had its gaze stopped at the eyes' range.
+bool AtTheEyesReach(const Parameters& retargeted);
+// "the eyes turn at most 50 deg aside and 30 deg up or down", for messages.
+std::string ReachDescription();
 
 // Blends two gaze poses (gaze and eyelids only; the rest from `a`) by `t` in [0, 1].
 Parameters BlendGaze(const Parameters& a, const Parameters& b, double t);

@@ -38,6 +38,24 @@ TEST(GazeTargetTest, BothEyesLookAtThePoint) {
   }
 }
 
+// A point almost straight behind the head, 2 cm to the subject's left: each
+// eye's yaw toward it reads near 180 degrees, one eye's +, the other's -.
+// Their plain mean (before session 72) sent the eyes straight ahead, away
+// from it, without a word; now they turn toward it as far as they can.
+TEST(GazeTargetTest, APointBehindTheHeadIsLookedTowardAsFarAsTheEyesTurn) {
+  const Parameters face = Face();
+  const Eigen::Vector3d behind_left(20, 0, 800);  // head frame: x to the subject's left, z into the head
+  const Parameters phi = Retarget(face, GazeTarget::Point(face.rotation() * behind_left + face.translation()));
+  EXPECT_DOUBLE_EQ(phi.gaze_yaw(), kMaxRedirectYawDeg);
+  EXPECT_NEAR(phi.gaze_pitch(), 0, 1.0);
+  EXPECT_TRUE(AtTheEyesReach(phi));
+  const Eigen::Vector3d behind_right(-20, 0, 800);
+  EXPECT_DOUBLE_EQ(Retarget(face, GazeTarget::Point(face.rotation() * behind_right + face.translation())).gaze_yaw(),
+                   -kMaxRedirectYawDeg);
+  EXPECT_FALSE(AtTheEyesReach(Retarget(face, GazeTarget::Camera())));
+  EXPECT_TRUE(AtTheEyesReach(Retarget(face, GazeTarget::Direction(0, 80, GazeTarget::Frame::kHead))));
+}
+
 TEST(GazeTargetTest, OffsetsAddAndTheEyelidsFollow) {
   const Parameters fitted = Face();
   const Parameters moved = Retarget(fitted, GazeTarget::Offset(10, -20));
