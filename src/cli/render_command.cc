@@ -12,6 +12,7 @@
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/io/image_io.h"
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/render/renderer.h"
 #include "gazedirector/util/error.h"
@@ -38,7 +39,7 @@ Parameters ReadParameters(const std::string& path) {
   try {
     json = nlohmann::json::parse(stream);
   } catch (const nlohmann::json::exception& e) {
-    Fail(ExitCode::kBadInput, "{}: invalid JSON ({})", path, e.what());
+    Fail(ExitCode::kBadInput, "{}: invalid JSON ({})", path, JsonErrorText(e));
   }
   // Either Φ itself or a record that holds it under "parameters".
   if (json.is_object() && json.contains("parameters")) json = json["parameters"];

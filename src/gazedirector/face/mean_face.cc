@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -15,7 +16,7 @@ MeanFace LoadMeanFace(const std::filesystem::path& path) {
   try {
     document = nlohmann::json::parse(stream);
   } catch (const nlohmann::json::exception& e) {
-    Fail(ExitCode::kAssets, "{}: invalid JSON ({})", path.string(), e.what());
+    Fail(ExitCode::kAssets, "{}: invalid JSON ({})", path.string(), JsonErrorText(e));
   }
   const auto& points = document.at("points");
   if (!points.is_array() || points.size() != kNumLandmarks) {

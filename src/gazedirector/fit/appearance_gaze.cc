@@ -14,6 +14,7 @@
 #include <opencv2/objdetect.hpp>
 
 #include "gazedirector/io/atomic_output.h"
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/model/eye_region_model.h"
 #include "gazedirector/util/error.h"
 
@@ -287,7 +288,7 @@ AppearanceGaze AppearanceGaze::Load(const fs::path& path) {
                       samples.at("camera_yaw").get<int>(), samples.at("turned_yaw").get<int>(),
                       samples.at("head_yaw").get<int>()};
   } catch (const nlohmann::json::exception& e) {
-    Fail(ExitCode::kAssets, "{}: not a valid appearance gaze model ({})", path.string(), e.what());
+    Fail(ExitCode::kAssets, "{}: not a valid appearance gaze model ({})", path.string(), JsonErrorText(e));
   }
   return model;
 }

@@ -139,7 +139,7 @@ FitsFile ReadFits(const std::filesystem::path& path) {
       try {
         records.push_back(nlohmann::json::parse(line));
       } catch (const nlohmann::json::exception& e) {
-        Fail(ExitCode::kBadInput, "{}:{}: not a JSON line ({})", path.string(), line_number, e.what());
+        Fail(ExitCode::kBadInput, "{}:{}: not a JSON line ({})", path.string(), line_number, JsonErrorText(e));
       }
     }
   }
@@ -167,7 +167,7 @@ FitsFile ReadFits(const std::filesystem::path& path) {
       }
       file.frames[frame.frame] = std::move(frame);
     } catch (const nlohmann::json::exception& e) {
-      Fail(ExitCode::kBadInput, "{}: record {}: {}", path.string(), index, e.what());
+      Fail(ExitCode::kBadInput, "{}: record {}: {}", path.string(), index, JsonErrorText(e));
     } catch (const Error& e) {
       Fail(e.code(), "{}: record {}: {}", path.string(), index, e.what());
     }

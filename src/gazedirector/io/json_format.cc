@@ -68,4 +68,10 @@ double RoundTo(double value, int decimals) {
   return std::round(value * scale) / scale;
 }
 
+std::string JsonErrorText(const nlohmann::json::exception& error) {
+  const std::string text = error.what();
+  const auto tag_end = text.find("] ");
+  return text.rfind("[json.exception.", 0) == 0 && tag_end != std::string::npos ? text.substr(tag_end + 2) : text;
+}
+
 }  // namespace gazedirector

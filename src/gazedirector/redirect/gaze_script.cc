@@ -3,13 +3,30 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <type_traits>
 
 #include <fmt/format.h>
 
+#include "gazedirector/io/json_format.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
 namespace {
+
+// `object[key]` as a number, `fallback` where it is missing.
+template <typename Number>
+Number NumberOr(const nlohmann::json& object, const char* key, Number fallback) {
+  const auto entry = object.find(key);
+  if (entry == object.end()) return fallback;
+  if (!entry->is_number()) Fail(ExitCode::kBadInput, "\"{}\" must be a number, not {}", key, entry->dump());
+  const double value = entry->get<double>();
+  if constexpr (std::is_integral_v<Number>) {
+    if (value != std::floor(value) || std::abs(value) > 1e6) {
+      Fail(ExitCode::kBadInput, "\"{}\" must be a whole number, not {}", key, entry->dump());
+    }
+  }
+  return static_cast<Number>(value);
+}
 
 double Smoothstep(double t) {
   t = std::clamp(t, 0.0, 1.0);
@@ -21,10 +38,16 @@ double Smoothstep(double t) {
 GazeScript GazeScript::Load(const std::filesystem::path& path) {
   std::ifstream stream(path);
   if (!stream) Fail(ExitCode::kBadInput, "{}: cannot read the gaze script", path.string());
+  nlohmann::json json;
   try {
-    return FromJson(nlohmann::json::parse(stream));
+    json = nlohmann::json::parse(stream);
   } catch (const nlohmann::json::exception& e) {
-    Fail(ExitCode::kBadInput, "{}: {}", path.string(), e.what());
+    Fail(ExitCode::kBadInput, "{}: invalid JSON ({})", path.string(), JsonErrorText(e));
+  }
+  try {
+    return FromJson(json);
+  } catch (const nlohmann::json::exception& e) {
+    Fail(ExitCode::kBadInput, "{}: {}", path.string(), JsonErrorText(e));
   } catch (const Error& e) {
     Fail(ExitCode::kBadInput, "{}: {}", path.string(), e.what());
   }
@@ -32,25 +55,28 @@ GazeScript GazeScript::Load(const std::filesystem::path& path) {
 
 GazeScript GazeScript::FromJson(const nlohmann::json& json) {
   GazeScript script;
-  script.transition_s_ = json.value("transition_s", 0.3);
+  if (!json.is_object()) Fail(ExitCode::kBadInput, "a gaze script is a JSON object with a \"segments\" list");
+  script.transition_s_ = NumberOr(json, "transition_s", 0.3);
   if (!(script.transition_s_ >= 0)) Fail(ExitCode::kBadInput, "transition_s must be 0 or more");
   if (!json.contains("segments") || !json["segments"].is_array() || json["segments"].empty()) {
     Fail(ExitCode::kBadInput, "a gaze script needs a non-empty \"segments\" list");
   }
   double last = -1e9;
   for (const nlohmann::json& entry : json["segments"]) {
+    if (!entry.is_object()) Fail(ExitCode::kBadInput, "each segment is a JSON object, not {}", entry.dump());
     Segment segment;
-    segment.start_s = entry.value("start_s", 0.0);
+    segment.start_s = NumberOr(entry, "start_s", 0.0);
     if (segment.start_s < last) Fail(ExitCode::kBadInput, "segments must be in order of start_s");
     last = segment.start_s;
     if (entry.contains("reading")) {
       const nlohmann::json& r = entry["reading"];
+      if (!r.is_object()) Fail(ExitCode::kBadInput, "reading: a JSON object, not {}", r.dump());
       segment.reading = true;
-      segment.read.width_deg = r.value("width_deg", segment.read.width_deg);
-      segment.read.line_s = r.value("line_s", segment.read.line_s);
-      segment.read.lines = r.value("lines", segment.read.lines);
-      segment.read.line_spacing_deg = r.value("line_spacing_deg", segment.read.line_spacing_deg);
-      segment.read.pitch_deg = r.value("pitch_deg", segment.read.pitch_deg);
+      segment.read.width_deg = NumberOr(r, "width_deg", segment.read.width_deg);
+      segment.read.line_s = NumberOr(r, "line_s", segment.read.line_s);
+      segment.read.lines = NumberOr(r, "lines", segment.read.lines);
+      segment.read.line_spacing_deg = NumberOr(r, "line_spacing_deg", segment.read.line_spacing_deg);
+      segment.read.pitch_deg = NumberOr(r, "pitch_deg", segment.read.pitch_deg);
       if (!(segment.read.line_s > 0.2) || segment.read.lines < 1) {
         Fail(ExitCode::kBadInput, "reading: line_s must exceed 0.2 s and lines be at least 1");
       }

@@ -60,5 +60,24 @@ TEST(GazeScriptTest, RejectsBadScripts) {
   EXPECT_THROW(GazeScript::FromJson(nlohmann::json::parse(R"({"segments": [{"target": {"gaze": [0, 135]}}]})")), Error);
 }
 
+// Values of the wrong JSON type get the script's own one-line errors, not the JSON library's.
+TEST(GazeScriptTest, NamesWhatIsOfTheWrongType) {
+  auto error_of = [](const char* text) -> std::string {
+    try {
+      GazeScript::FromJson(nlohmann::json::parse(text));
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error_of("[1, 2]"), "a gaze script is a JSON object with a \"segments\" list");
+  EXPECT_EQ(error_of(R"({"segments": [3]})"), "each segment is a JSON object, not 3");
+  EXPECT_EQ(error_of(R"({"segments": [{"start_s": "2", "target": "camera"}]})"), "\"start_s\" must be a number, not \"2\"");
+  EXPECT_EQ(error_of(R"({"transition_s": null, "segments": [{"target": "camera"}]})"),
+            "\"transition_s\" must be a number, not null");
+  EXPECT_EQ(error_of(R"({"segments": [{"reading": {"lines": 2.5}}]})"), "\"lines\" must be a whole number, not 2.5");
+  EXPECT_EQ(error_of(R"({"segments": [{"reading": []}]})"), "reading: a JSON object, not []");
+}
+
 }  // namespace
 }  // namespace gazedirector
