@@ -375,6 +375,13 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
             4)
       << output;
   EXPECT_NE(output.find("the fits were made on 600x900 frames"), std::string::npos) << output;
+  // A point behind the head is no error: the eyes look as far toward it as they turn, and the command says so.
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " --fits " + Quote(dir / "d30.jsonl") + " -o " +
+                       Quote(dir / "behind.jpg") + " --look-at 0,0,5000",
+                   &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("face 0: the point (0, 0, 5000) mm lies beyond the eyes' reach"), std::string::npos) << output;
   {
     std::ofstream script(dir / "bad_script.json");
     script << R"({"segments": [{"start_s": 0, "target": {"look_at": "there"}}]})";

@@ -175,10 +175,6 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
       continue;
     }
     const Parameters target = script.TargetAt(fit.phi, 0);
-    if (AtTheEyesReach(target)) {
-      spdlog::warn("face {}: {} lies beyond the eyes' reach ({}); they look as far toward it as they can",
-                   fit.face_id, script.Describe(), ReachDescription());
-    }
     RedirectLayers layers;
     const RedirectReport report = redirector.Redirect(result, camera, fit.phi, target, options.debug_dir.empty() ? nullptr : &layers);
     if (!options.debug_dir.empty()) {
@@ -188,6 +184,10 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
     if (!report.redirected[0] && !report.redirected[1]) {
       spdlog::warn("face {}: left untouched: {}", fit.face_id, report.note);
       continue;
+    }
+    if (AtTheEyesReach(target)) {
+      spdlog::warn("face {}: {} lies beyond the eyes' reach ({}); they look as far toward it as they can",
+                   fit.face_id, script.Describe(), ReachDescription());
     }
     ++redirected;
     spdlog::info("face {}: {} redirected from pitch {:.1f} yaw {:.1f} to pitch {:.1f} yaw {:.1f} deg (head frame), "
