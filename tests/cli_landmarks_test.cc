@@ -121,6 +121,21 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 
+// A mistyped command is named, with the ones there are (CLI11 alone said "A subcommand is required").
+TEST(CliLandmarksTest, AnUnknownCommandIsNamedWithTheKnownOnes) {
+  std::string output;
+  EXPECT_EQ(RunCli("landmark " + Quote(DataPath("images/s42.jpg")), &output), 2) << output;
+  EXPECT_NE(output.find("gazedirector: error: unknown command 'landmark' (one of landmarks, bench, eval, render, track, "
+                        "redirect, train-appearance)"),
+            std::string::npos)
+      << output;
+  EXPECT_EQ(RunCli("eval columbi", &output), 2) << output;
+  EXPECT_NE(output.find("unknown eval command 'columbi' (one of landmarks, columbia, redirect-columbia, iris)"),
+            std::string::npos)
+      << output;
+  EXPECT_EQ(RunCli("--version", &output), 0) << output;
+}
+
 TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
   const fs::path dir = ScratchDir("cli_landmarks_video");
   std::string output;

@@ -1,9 +1,12 @@
 // gazedirector: changes where people in photos and videos are looking.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <opencv2/core/utility.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -11,6 +14,32 @@
 #include "cli/common.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
+
+namespace {
+
+// A word where a command (or an eval's kind) belongs that names none: CLI11
+// would only say "A subcommand is required". Returns whether it reported one.
+bool ReportUnknownCommand(CLI::App& app, int argc, char** argv) {
+  CLI::App* current = &app;
+  for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
+    const std::vector<CLI::App*> commands = current->get_subcommands([](CLI::App*) { return true; });
+    if (commands.empty()) return false;
+    const auto named = std::find_if(commands.begin(), commands.end(),
+                                    [&](CLI::App* command) { return command->get_name() == argv[i]; });
+    if (named == commands.end()) {
+      std::vector<std::string> names;
+      for (CLI::App* command : commands) names.push_back(command->get_name());
+      const std::string where = current == &app ? "command" : current->get_name() + " command";
+      std::fprintf(stderr, "gazedirector: error: unknown %s '%s' (one of %s)\n", where.c_str(), argv[i],
+                   fmt::format("{}", fmt::join(names, ", ")).c_str());
+      return true;
+    }
+    current = *named;
+  }
+  return false;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace gazedirector;
@@ -28,6 +57,7 @@ int main(int argc, char** argv) {
                                         cli::RegisterEvalCommand(app), cli::RegisterRenderCommand(app),
                                         cli::RegisterTrackCommand(app), cli::RegisterRedirectCommand(app),
                                         cli::RegisterTrainCommand(app)};
+  if (ReportUnknownCommand(app, argc, argv)) return static_cast<int>(ExitCode::kUsage);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
