@@ -30,8 +30,7 @@ bool ReportUnknownCommand(CLI::App& app, int argc, char** argv) {
       std::vector<std::string> names;
       for (CLI::App* command : commands) names.push_back(command->get_name());
       const std::string where = current == &app ? "command" : current->get_name() + " command";
-      std::fprintf(stderr, "gazedirector: error: unknown %s '%s' (one of %s)\n", where.c_str(), argv[i],
-                   fmt::format("{}", fmt::join(names, ", ")).c_str());
+      fmt::print(stderr, "gazedirector: error: unknown {} '{}' (one of {})\n", where, argv[i], fmt::join(names, ", "));
       return true;
     }
     current = *named;

@@ -169,14 +169,10 @@ Eigen::Vector3d EyeRegionModel::FixationAngles(const Parameters& phi, const Eige
   const Eigen::Vector3d in_head = PointInHead(phi, point);
   const Eigen::Vector2d left = PitchYawInHead(in_head - EyeCentreInHead(phi, kLeftEye));
   const Eigen::Vector2d right = PitchYawInHead(in_head - EyeCentreInHead(phi, kRightEye));
-  const double vergence = right.y() - left.y();
-  if (std::abs(vergence) > 180) {
-    // Behind the eyes, one eye's yaw reads near +180 and the other's near
-    // -180: their plain mean would face the point's opposite, straight ahead.
-    const double wrapped = std::remainder(vergence, 360.0);
-    return Eigen::Vector3d(0.5 * (left.x() + right.x()), std::remainder(left.y() + 0.5 * wrapped, 360.0), wrapped);
-  }
-  return Eigen::Vector3d(0.5 * (left.x() + right.x()), 0.5 * (left.y() + right.y()), vergence);
+  // Wrapped: behind the eyes one eye's yaw reads near +180 and the other's
+  // near -180, and their plain mean would face away from the point.
+  const double vergence = std::remainder(right.y() - left.y(), 360.0);
+  return Eigen::Vector3d(0.5 * (left.x() + right.x()), std::remainder(left.y() + 0.5 * vergence, 360.0), vergence);
 }
 
 std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <type_traits>
 
 #include <fmt/format.h>
@@ -21,8 +22,9 @@ Number NumberOr(const nlohmann::json& object, const char* key, Number fallback) 
   if (!entry->is_number()) Fail(ExitCode::kBadInput, "\"{}\" must be a number, not {}", key, entry->dump());
   const double value = entry->get<double>();
   if constexpr (std::is_integral_v<Number>) {
-    if (value != std::floor(value) || std::abs(value) > 1e6) {
-      Fail(ExitCode::kBadInput, "\"{}\" must be a whole number, not {}", key, entry->dump());
+    if (value != std::floor(value)) Fail(ExitCode::kBadInput, "\"{}\" must be a whole number, not {}", key, entry->dump());
+    if (std::abs(value) > std::numeric_limits<Number>::max()) {
+      Fail(ExitCode::kBadInput, "\"{}\" is out of range: {}", key, entry->dump());
     }
   }
   return static_cast<Number>(value);
