@@ -91,6 +91,19 @@ cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect&
   return NearbyColour(image, shown, area, sigma, cv::Mat(shown.size(), CV_32FC3, cv::Scalar(typical)));
 }
 
+cv::Mat DepthInside(const cv::Mat& mask) {
+  cv::Mat depth(mask.size(), CV_32F, cv::Scalar(0));
+  const cv::Rect inside = cv::boundingRect(mask);
+  if (inside.empty()) return depth;
+  // The ring of outside pixels around the mask holds the nearest outside
+  // pixel of every inside one (a farther one, clamped onto the ring, is
+  // nearer); where the mask meets the image's edge there is none, as in the
+  // whole image.
+  const cv::Rect around = GrownWithin(inside, 1, mask.size());
+  cv::distanceTransform(mask(around), depth(around), cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return depth;
+}
+
 double MedianUnder(const cv::Mat& values, const cv::Mat& mask, double none) {
   std::vector<double> under;
   for (int y = 0; y < values.rows; ++y) {

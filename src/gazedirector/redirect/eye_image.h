@@ -48,6 +48,11 @@ cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect&
 cv::Mat NearbyColour(const cv::Mat& image, const cv::Mat& shown, const cv::Rect& area, double sigma,
                      const cv::Mat& typical);
 
+// Each pixel's Euclidean distance in pixels to the nearest pixel outside
+// `mask` (8-bit; CV_32F, 0 outside): cv::distanceTransform's precise one,
+// computed only around the mask, which is all of it.
+cv::Mat DepthInside(const cv::Mat& mask);
+
 // The median of `values` (CV_32FC1) under `mask` (8-bit), `none` where the mask is empty.
 double MedianUnder(const cv::Mat& values, const cv::Mat& mask, double none);
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 namespace gazedirector {
 namespace {
@@ -77,6 +78,22 @@ TEST(EyeImageTest, MixedAcrossEdgeStaysWithinTheMask) {
   mixed = MixedAcrossEdge(image, mask, distance);
   EXPECT_EQ(mixed.at<cv::Vec3f>(0, 3), image.at<cv::Vec3f>(0, 3));
   EXPECT_EQ(mixed.at<cv::Vec3f>(0, 2), image.at<cv::Vec3f>(0, 2));
+}
+
+// Computed around the mask only, the depth is the whole image's transform,
+// also where the mask meets the image's edge (no outside pixel there).
+TEST(EyeImageTest, DepthInsideIsTheWholeImagesDistanceTransform) {
+  cv::Mat mask(60, 90, CV_8UC1, cv::Scalar(0));
+  cv::ellipse(mask, cv::Point(8, 30), cv::Size(14, 9), 10, 0, 360, cv::Scalar(255), cv::FILLED);
+  cv::ellipse(mask, cv::Point(55, 28), cv::Size(16, 7), -5, 0, 360, cv::Scalar(255), cv::FILLED);
+  mask.at<uchar>(50, 80) = 255;
+  cv::Mat whole;
+  cv::distanceTransform(mask, whole, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const cv::Mat depth = DepthInside(mask);
+  ASSERT_EQ(depth.type(), CV_32F);
+  EXPECT_EQ(cv::norm(depth, whole, cv::NORM_INF), 0.0);
+  EXPECT_GT(depth.at<float>(30, 0), 5.0f);  // the image's edge is no outside pixel
+  EXPECT_EQ(cv::countNonZero(DepthInside(cv::Mat(mask.size(), CV_8UC1, cv::Scalar(0)))), 0);
 }
 
 }  // namespace

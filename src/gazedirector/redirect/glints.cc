@@ -17,7 +17,7 @@ namespace {
 
 // One fitted eye's pixels in the photo, within a box around them: its
 // eyeball, the part of it the fitted cornea covers (the iris), and their
-// luminance (sorted).
+// luminance (in no order).
 struct EyePixels {
   cv::Rect box;           // around the eyeball with a margin of half its height, in the photo
   cv::Mat eyeball, iris;  // 8-bit masks of the box's size
@@ -50,16 +50,15 @@ std::array<EyePixels, 2> PixelsOfEyes(const cv::Mat& photo, const RenderBuffers&
     if (!sclera) eye.iris.at<uchar>(y - eye.box.y, x - eye.box.x) = 255;
     (sclera ? eye.sclera_luminance : eye.iris_luminance).push_back(Luminance(photo.at<cv::Vec3f>(y, x)));
   }
-  for (EyePixels& eye : eyes) {
-    std::sort(eye.iris_luminance.begin(), eye.iris_luminance.end());
-    std::sort(eye.sclera_luminance.begin(), eye.sclera_luminance.end());
-  }
   return eyes;
 }
 
-// The `q` quantile of sorted `values` (not empty).
-double SortedQuantile(const std::vector<double>& values, double q) {
-  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+// The `q` quantile of `values` (not empty), the lower of the two around it;
+// reorders them.
+double LowerQuantile(std::vector<double>& values, double q) {
+  const auto nth = values.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+  std::nth_element(values.begin(), nth, values.end());
+  return *nth;
 }
 
 // What tells one eye's glints from the rest of it (luminance).
@@ -73,14 +72,14 @@ struct GlintLevels {
   int wide;                // the top-hat's width in pixels: wider than the largest glint
 };
 
-GlintLevels LevelsOfGlints(const EyePixels& eye, double largest) {
-  const float iris = static_cast<float>(SortedQuantile(eye.iris_luminance, 0.5));
-  const float sclera = static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.5));
+GlintLevels LevelsOfGlints(EyePixels& eye, double largest) {
+  const float iris = static_cast<float>(LowerQuantile(eye.iris_luminance, 0.5));
+  const float sclera = static_cast<float>(LowerQuantile(eye.sclera_luminance, 0.5));
   const float contrast = std::max(0.2f, sclera - iris);
   GlintLevels levels;
-  levels.brightest_sclera = static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.98));
+  levels.brightest_sclera = static_cast<float>(LowerQuantile(eye.sclera_luminance, 0.98));
   levels.sclera = sclera;
-  levels.bright = std::max(static_cast<float>(SortedQuantile(eye.sclera_luminance, 0.9)), iris + 0.5f * contrast);
+  levels.bright = std::max(static_cast<float>(LowerQuantile(eye.sclera_luminance, 0.9)), iris + 0.5f * contrast);
   levels.dark_surround = iris + 0.3f * contrast;
   levels.stands_out = 0.3f * contrast;
   levels.rim = 0.1f * contrast;
@@ -122,25 +121,46 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
                    const cv::Mat& tophat) {
   constexpr double kSmallShare = 0.03, kSmallContrast = 0.15, kLargeShare = 0.15;
   const cv::Mat around = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
-  cv::Mat near_iris, spot_labels, patch_labels;
-  cv::dilate(eye.iris, near_iris, around);
-  const cv::Mat spots = eye.iris & (tophat > std::max(static_cast<double>(levels.stands_out), kSmallContrast));
-  const int spot_count = cv::connectedComponents(spots, spot_labels, 8, CV_32S);
-  cv::connectedComponents(near_iris & eye.eyeball & (luminance > levels.bright), patch_labels, 8, CV_32S);
-  const int small = std::max(2, static_cast<int>(kSmallShare * static_cast<double>(eye.iris_luminance.size())));
+  const cv::Mat beyond_halo = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7));
   cv::Mat cores(luminance.size(), CV_8UC1, cv::Scalar(0));
-  // The ring two to three pixels out of `area` on the eyeball, beyond a
-  // glint's own halo, and its median luminance (-1 where it is empty).
-  auto ring_of = [&](const cv::Mat& area) {
+  const cv::Mat spots = eye.iris & (tophat > std::max(static_cast<double>(levels.stands_out), kSmallContrast));
+  if (cv::countNonZero(spots) == 0) return cores;
+  cv::Mat spot_labels, spot_stats, centroids;
+  const int spot_count = cv::connectedComponentsWithStats(spots, spot_labels, spot_stats, centroids, 8, CV_32S);
+  // The bright patches near the iris, labelled once a spot needs them.
+  cv::Mat patch_labels, patch_stats;
+  auto label_patches = [&] {
+    if (!patch_labels.empty()) return;
+    cv::Mat near_iris;
+    cv::dilate(eye.iris, near_iris, around);
+    cv::connectedComponentsWithStats(near_iris & eye.eyeball & (luminance > levels.bright), patch_labels, patch_stats,
+                                     centroids, 8, CV_32S);
+  };
+  const int small = std::max(2, static_cast<int>(kSmallShare * static_cast<double>(eye.iris_luminance.size())));
+  // One labelled area within the box that holds it and its ring (`box`),
+  // and the ring two to three pixels out of it on the eyeball, beyond a
+  // glint's own halo. Worked on in the box alone: a spot is a few pixels of
+  // an eye's box.
+  struct Area {
+    cv::Rect box;
+    cv::Mat mask, ring;
+  };
+  auto area_of = [&](const cv::Mat& labels, const cv::Mat& stats, int label) {
+    const cv::Rect bounds(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
+                          stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    Area area;
+    area.box = GrownWithin(bounds, beyond_halo.cols / 2, labels.size());
+    area.mask = labels(area.box) == label;
     cv::Mat ring, halo;
-    cv::dilate(area, ring, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
-    cv::dilate(area, halo, around);
-    return cv::Mat(ring & eye.eyeball & ~halo);
+    cv::dilate(area.mask, ring, beyond_halo);
+    cv::dilate(area.mask, halo, around);
+    area.ring = ring & eye.eyeball(area.box) & ~halo;
+    return area;
   };
   std::optional<cv::Vec3f> skin;  // the skin beside the eye, once a candidate needs it
-  auto tinted_like_skin = [&](const cv::Mat& area, const cv::Mat& ring) {
+  auto tinted_like_skin = [&](const Area& area) {
     if (!skin) skin = MedianColour(eye_photo, ~eye.eyeball);
-    return TintedLikeSkin(eye_photo, area, ring, *skin);
+    return TintedLikeSkin(eye_photo(area.box), area.mask, area.ring, *skin);
   };
   // Light along the fitted iris's outermost pixels is the photo's sclera
   // that a fitted iris a pixel beside the photo's covers (Columbia 0004's
@@ -149,29 +169,31 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
   cv::erode(eye.iris, inner_iris, cv::Mat());
   const cv::Mat iris_edge = eye.iris & ~inner_iris;
   for (int label = 1; label < spot_count; ++label) {
-    const cv::Mat spot = spot_labels == label;
-    if (2 * cv::countNonZero(spot & iris_edge) > cv::countNonZero(spot)) continue;
+    const Area spot = area_of(spot_labels, spot_stats, label);
+    const int spot_pixels = spot_stats.at<int>(label, cv::CC_STAT_AREA);
+    if (2 * cv::countNonZero(spot.mask & iris_edge(spot.box)) > spot_pixels) continue;
     double peak = 0;
     cv::Point brightest;
-    cv::minMaxLoc(luminance, nullptr, &peak, nullptr, &brightest, spot);
-    const cv::Mat spot_ring = ring_of(spot);
-    const double surround = MedianUnder(luminance, spot_ring, -1);
+    cv::minMaxLoc(luminance(spot.box), nullptr, &peak, nullptr, &brightest, spot.mask);
+    const double surround = MedianUnder(luminance(spot.box), spot.ring, -1);
     if (surround < 0 || surround > levels.dark_surround) continue;
     if (peak > levels.brightest_sclera && peak > levels.bright) {
       // A large patch (over kLargeShare of the iris) must lie in dark iris
       // too: one that runs on into the sclera which a fitted iris beside the
       // photo's covers (d3.mp4 frame 330) would move that sclera as a glint,
       // a white bar across the new iris.
-      const cv::Mat patch = patch_labels == patch_labels.at<int>(brightest);
-      const cv::Mat patch_ring = ring_of(patch);
-      if (cv::countNonZero(patch) > kLargeShare * static_cast<double>(eye.iris_luminance.size())) {
-        const double patch_surround = MedianUnder(luminance, patch_ring, -1);
+      label_patches();
+      const int patch_label = patch_labels.at<int>(brightest + spot.box.tl());
+      const Area patch = area_of(patch_labels, patch_stats, patch_label);
+      const int patch_pixels = patch_stats.at<int>(patch_label, cv::CC_STAT_AREA);
+      if (patch_pixels > kLargeShare * static_cast<double>(eye.iris_luminance.size())) {
+        const double patch_surround = MedianUnder(luminance(patch.box), patch.ring, -1);
         if (patch_surround < 0 || patch_surround > levels.dark_surround) continue;
       }
-      if (!tinted_like_skin(patch, patch_ring)) cores |= patch;
-    } else if (cv::countNonZero(spot) <= small && peak > levels.sclera && peak - surround > kSmallContrast &&
-               !tinted_like_skin(spot, spot_ring)) {
-      cores |= spot;
+      if (!tinted_like_skin(patch)) cores(patch.box) |= patch.mask;
+    } else if (spot_pixels <= small && peak > levels.sclera && peak - surround > kSmallContrast &&
+               !tinted_like_skin(spot)) {
+      cores(spot.box) |= spot.mask;
     }
   }
   return cores;
@@ -189,9 +211,9 @@ Glints FindGlints(const cv::Mat& photo, const RenderBuffers& fitted, const cv::M
   constexpr std::size_t kEnough = 10;  // samples of iris and of sclera
   constexpr double kLargest = 0.25;    // of the iris: larger bright patches are no glints (glasses, a window)
   Glints glints;
-  const std::array<EyePixels, 2> eyes = PixelsOfEyes(photo, fitted, cornea);
+  std::array<EyePixels, 2> eyes = PixelsOfEyes(photo, fitted, cornea);
   for (int eye = 0; eye < 2; ++eye) {
-    const EyePixels& pixels = eyes[eye];
+    EyePixels& pixels = eyes[eye];
     if (pixels.iris_luminance.size() < kEnough || pixels.sclera_luminance.size() < kEnough) continue;
     const double iris_pixels = static_cast<double>(pixels.iris_luminance.size());
     const GlintLevels levels = LevelsOfGlints(pixels, kLargest);

@@ -83,6 +83,28 @@ int CountPart(const RenderBuffers& buffers, int part) {
   return count;
 }
 
+// How many pixels of each eyeball `renderer`'s posed model shows in `crop`.
+// Only the eyeballs' own bounds are rasterized: all their pixels lie there.
+std::array<int, 2> EyeballPixels(Renderer& renderer, const Camera& crop, RenderBuffers& buffers) {
+  Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
+  for (int part : {kLeftEyeball, kRightEyeball}) {
+    const Eigen::Matrix3Xf& positions = renderer.posed().parts[part].positions;
+    for (Eigen::Index v = 0; v < positions.cols(); ++v) {
+      if (positions(2, v) <= 1) return {0, 0};
+      const Eigen::Vector2d q = crop.Project(positions.col(v).cast<double>());
+      low = low.cwiseMin(q), high = high.cwiseMax(q);
+    }
+  }
+  const cv::Rect bounds = cv::Rect(cv::Point(static_cast<int>(std::floor(std::max(-1e6, low.x()))) - 1,
+                                             static_cast<int>(std::floor(std::max(-1e6, low.y()))) - 1),
+                                   cv::Point(static_cast<int>(std::ceil(std::min(1e6, high.x()))) + 1,
+                                             static_cast<int>(std::ceil(std::min(1e6, high.y()))) + 1)) &
+                          cv::Rect(0, 0, crop.width, crop.height);
+  if (bounds.empty()) return {0, 0};
+  renderer.Rasterize(crop.Cropped(bounds.x, bounds.y, bounds.width, bounds.height), buffers);
+  return {CountPart(buffers, kLeftEyeball), CountPart(buffers, kRightEyeball)};
+}
+
 // The luminance of `buffers`' rendering (CV_32F, 0 off the foreground).
 cv::Mat RenderedLuminance(const RenderBuffers& buffers) {
   cv::Mat luminance(buffers.height(), buffers.width(), CV_32F, cv::Scalar(0));
@@ -349,10 +371,11 @@ std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera&
   rested.eyelid_closure() = 0;
   rested.eyelid_pitch() = fitted.gaze_pitch();
   target_renderer_.set_eyes(true, true);
-  target_renderer_.Render(rested, crop, target_buffers_);
+  target_renderer_.Pose(rested);
+  const std::array<int, 2> at_rest = EyeballPixels(target_renderer_, crop, target_buffers_);
   std::array<bool, 2> open = {true, true};
   for (int eye = 0; eye < 2; ++eye) {
-    const int rest = CountPart(target_buffers_, EyeballPart(eye));
+    const int rest = at_rest[eye];
     const int shown = CountPart(fitted_buffers_, EyeballPart(eye));
     const char* side = eye == kLeftEye ? "left" : "right";
     if (rest < 6) {
@@ -376,9 +399,10 @@ std::array<float, 2> Redirector::SlitShares(const Parameters& fitted, const Came
   level.eyelid_pitch() = 0;
   level.eyelid_closure() = 0;
   target_renderer_.set_eyes(true, true);
-  target_renderer_.Render(level, crop, target_buffers_);
+  target_renderer_.Pose(level);
+  const std::array<int, 2> at_rest = EyeballPixels(target_renderer_, crop, target_buffers_);
   for (int eye = 0; eye < 2; ++eye) {
-    const int rest = CountPart(target_buffers_, EyeballPart(eye));
+    const int rest = at_rest[eye];
     const double shown = rest > 0 ? static_cast<double>(CountPart(fitted_buffers_, EyeballPart(eye))) / rest : 0;
     slit[eye] = static_cast<float>(std::clamp(
         (options_.clear_fraction - shown) / (options_.clear_fraction - options_.slit_fraction), 0.0, 1.0));
@@ -545,9 +569,8 @@ RedirectReport Redirector::RedirectAtThisSize(cv::Mat& image, const Camera& came
   // the photo's fit and in the re-posed model. Surface the photo showed at
   // its lid margin carries the lashes' shade: it may land near the new
   // margin, not deep in the new opening, where it would draw dark streaks.
-  cv::Mat source_depth, target_depth;
-  cv::distanceTransform(fitted_buffers_.EyeballMaskImage(), source_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  cv::distanceTransform(eyeball_mask, target_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const cv::Mat source_depth = DepthInside(fitted_buffers_.EyeballMaskImage());
+  const cv::Mat target_depth = DepthInside(eyeball_mask);
   const double interocular_px = crop_camera.fx * fitted.interocular() / std::max(1.0, fitted.translation().z());
   const float margin_px = static_cast<float>(std::max(1.5, options_.margin_band * interocular_px));
   const cv::Mat fitted_luminance = RenderedLuminance(fitted_buffers_);
