@@ -106,6 +106,35 @@ TEST(RendererTest, CullingEyeballPatchesChangesNoPixel) {
   EXPECT_EQ(renders, 54);
 }
 
+// A camera cropped to a window rasterizes the window's pixels as the whole
+// view does (the redirection counts eyeball pixels in the eyeballs' own
+// bounds only), over gazes, lids and head turns.
+TEST(RendererTest, ACroppedCameraRasterizesTheWindowAsTheWholeViewDoes) {
+  Renderer renderer(SharedModel());
+  RenderBuffers whole, window;
+  int windows = 0;
+  for (double head_yaw : {-25.0, 0.0, 20.0}) {
+    for (double gaze_pitch : {-30.0, 0.0, 20.0}) {
+      Parameters phi = Framed();
+      phi.block<Block::kRotation>() = Eigen::Vector3d(5, head_yaw, 0);
+      phi.gaze_pitch() = gaze_pitch;
+      phi.gaze_yaw() = head_yaw / 2;
+      phi.eyelid_pitch() = gaze_pitch;
+      renderer.Pose(phi);
+      renderer.Rasterize(kCamera, whole);
+      const cv::Mat parts = whole.PartImage();
+      for (const cv::Rect& crop : {cv::Rect(37, 21, 90, 50), cv::Rect(0, 0, 200, 100), cv::Rect(120, 30, 80, 70),
+                                   cv::Rect(3, 40, 61, 33)}) {
+        renderer.Rasterize(kCamera.Cropped(crop.x, crop.y, crop.width, crop.height), window);
+        ASSERT_EQ(cv::norm(window.PartImage(), parts(crop), cv::NORM_INF), 0.0)
+            << "head " << head_yaw << " pitch " << gaze_pitch << " window " << crop;
+        ++windows;
+      }
+    }
+  }
+  EXPECT_EQ(windows, 36);
+}
+
 TEST(RendererTest, MaskAndPartIdsAgreeAndShowFourParts) {
   Renderer renderer(SharedModel());
   RenderBuffers buffers;
