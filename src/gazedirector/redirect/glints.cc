@@ -137,30 +137,30 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
                                      centroids, 8, CV_32S);
   };
   const int small = std::max(2, static_cast<int>(kSmallShare * static_cast<double>(eye.iris_luminance.size())));
-  // One labelled area within the box that holds it and its ring (`box`),
-  // and the ring two to three pixels out of it on the eyeball, beyond a
-  // glint's own halo. Worked on in the box alone: a spot is a few pixels of
-  // an eye's box.
+  // One labelled area within the box that holds it and its ring (`box`).
+  // Worked on in the box alone: a spot is a few pixels of an eye's box.
   struct Area {
     cv::Rect box;
-    cv::Mat mask, ring;
+    cv::Mat mask;
   };
   auto area_of = [&](const cv::Mat& labels, const cv::Mat& stats, int label) {
     const cv::Rect bounds(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
                           stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    Area area;
-    area.box = GrownWithin(bounds, beyond_halo.cols / 2, labels.size());
-    area.mask = labels(area.box) == label;
+    const cv::Rect box = GrownWithin(bounds, beyond_halo.cols / 2, labels.size());
+    return Area{box, labels(box) == label};
+  };
+  // The ring two to three pixels out of `area` on the eyeball, beyond a
+  // glint's own halo (in the area's box).
+  auto ring_of = [&](const Area& area) {
     cv::Mat ring, halo;
     cv::dilate(area.mask, ring, beyond_halo);
     cv::dilate(area.mask, halo, around);
-    area.ring = ring & eye.eyeball(area.box) & ~halo;
-    return area;
+    return cv::Mat(ring & eye.eyeball(area.box) & ~halo);
   };
   std::optional<cv::Vec3f> skin;  // the skin beside the eye, once a candidate needs it
-  auto tinted_like_skin = [&](const Area& area) {
+  auto tinted_like_skin = [&](const Area& area, const cv::Mat& ring) {
     if (!skin) skin = MedianColour(eye_photo, ~eye.eyeball);
-    return TintedLikeSkin(eye_photo(area.box), area.mask, area.ring, *skin);
+    return TintedLikeSkin(eye_photo(area.box), area.mask, ring, *skin);
   };
   // Light along the fitted iris's outermost pixels is the photo's sclera
   // that a fitted iris a pixel beside the photo's covers (Columbia 0004's
@@ -175,7 +175,8 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
     double peak = 0;
     cv::Point brightest;
     cv::minMaxLoc(luminance(spot.box), nullptr, &peak, nullptr, &brightest, spot.mask);
-    const double surround = MedianUnder(luminance(spot.box), spot.ring, -1);
+    const cv::Mat spot_ring = ring_of(spot);
+    const double surround = MedianUnder(luminance(spot.box), spot_ring, -1);
     if (surround < 0 || surround > levels.dark_surround) continue;
     if (peak > levels.brightest_sclera && peak > levels.bright) {
       // A large patch (over kLargeShare of the iris) must lie in dark iris
@@ -185,14 +186,15 @@ cv::Mat GlintCores(const EyePixels& eye, const GlintLevels& levels, const cv::Ma
       label_patches();
       const int patch_label = patch_labels.at<int>(brightest + spot.box.tl());
       const Area patch = area_of(patch_labels, patch_stats, patch_label);
+      const cv::Mat patch_ring = ring_of(patch);
       const int patch_pixels = patch_stats.at<int>(patch_label, cv::CC_STAT_AREA);
       if (patch_pixels > kLargeShare * static_cast<double>(eye.iris_luminance.size())) {
-        const double patch_surround = MedianUnder(luminance(patch.box), patch.ring, -1);
+        const double patch_surround = MedianUnder(luminance(patch.box), patch_ring, -1);
         if (patch_surround < 0 || patch_surround > levels.dark_surround) continue;
       }
-      if (!tinted_like_skin(patch)) cores(patch.box) |= patch.mask;
+      if (!tinted_like_skin(patch, patch_ring)) cores(patch.box) |= patch.mask;
     } else if (spot_pixels <= small && peak > levels.sclera && peak - surround > kSmallContrast &&
-               !tinted_like_skin(spot)) {
+               !tinted_like_skin(spot, spot_ring)) {
       cores(spot.box) |= spot.mask;
     }
   }

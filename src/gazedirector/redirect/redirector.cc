@@ -83,28 +83,6 @@ int CountPart(const RenderBuffers& buffers, int part) {
   return count;
 }
 
-// How many pixels of each eyeball `renderer`'s posed model shows in `crop`.
-// Only the eyeballs' own bounds are rasterized: all their pixels lie there.
-std::array<int, 2> EyeballPixels(Renderer& renderer, const Camera& crop, RenderBuffers& buffers) {
-  Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
-  for (int part : {kLeftEyeball, kRightEyeball}) {
-    const Eigen::Matrix3Xf& positions = renderer.posed().parts[part].positions;
-    for (Eigen::Index v = 0; v < positions.cols(); ++v) {
-      if (positions(2, v) <= 1) return {0, 0};
-      const Eigen::Vector2d q = crop.Project(positions.col(v).cast<double>());
-      low = low.cwiseMin(q), high = high.cwiseMax(q);
-    }
-  }
-  const cv::Rect bounds = cv::Rect(cv::Point(static_cast<int>(std::floor(std::max(-1e6, low.x()))) - 1,
-                                             static_cast<int>(std::floor(std::max(-1e6, low.y()))) - 1),
-                                   cv::Point(static_cast<int>(std::ceil(std::min(1e6, high.x()))) + 1,
-                                             static_cast<int>(std::ceil(std::min(1e6, high.y()))) + 1)) &
-                          cv::Rect(0, 0, crop.width, crop.height);
-  if (bounds.empty()) return {0, 0};
-  renderer.Rasterize(crop.Cropped(bounds.x, bounds.y, bounds.width, bounds.height), buffers);
-  return {CountPart(buffers, kLeftEyeball), CountPart(buffers, kRightEyeball)};
-}
-
 // The luminance of `buffers`' rendering (CV_32F, 0 off the foreground).
 cv::Mat RenderedLuminance(const RenderBuffers& buffers) {
   cv::Mat luminance(buffers.height(), buffers.width(), CV_32F, cv::Scalar(0));
@@ -364,15 +342,23 @@ Parameters Redirector::PosedTarget(const Parameters& fitted, const Parameters& t
   return posed;
 }
 
+std::array<int, 2> Redirector::EyeballPixels(const Parameters& phi, const Camera& crop) {
+  target_renderer_.set_eyes(true, true);
+  target_renderer_.Pose(phi);
+  const cv::Rect bounds = EyeballBounds(target_renderer_.posed(), crop);
+  if (bounds.empty()) return {0, 0};
+  // Only the eyeballs' bounds are rasterized: all their pixels lie there.
+  target_renderer_.Rasterize(crop.Cropped(bounds.x, bounds.y, bounds.width, bounds.height), target_buffers_);
+  return {CountPart(target_buffers_, kLeftEyeball), CountPart(target_buffers_, kRightEyeball)};
+}
+
 std::array<bool, 2> Redirector::OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note) {
   // How much eyeball the fit (in fitted_buffers_) shows, against the same
   // eyes with their lids at rest.
   Parameters rested = fitted;
   rested.eyelid_closure() = 0;
   rested.eyelid_pitch() = fitted.gaze_pitch();
-  target_renderer_.set_eyes(true, true);
-  target_renderer_.Pose(rested);
-  const std::array<int, 2> at_rest = EyeballPixels(target_renderer_, crop, target_buffers_);
+  const std::array<int, 2> at_rest = EyeballPixels(rested, crop);
   std::array<bool, 2> open = {true, true};
   for (int eye = 0; eye < 2; ++eye) {
     const int rest = at_rest[eye];
@@ -398,9 +384,7 @@ std::array<float, 2> Redirector::SlitShares(const Parameters& fitted, const Came
   level.gaze_pitch() = 0;
   level.eyelid_pitch() = 0;
   level.eyelid_closure() = 0;
-  target_renderer_.set_eyes(true, true);
-  target_renderer_.Pose(level);
-  const std::array<int, 2> at_rest = EyeballPixels(target_renderer_, crop, target_buffers_);
+  const std::array<int, 2> at_rest = EyeballPixels(level, crop);
   for (int eye = 0; eye < 2; ++eye) {
     const int rest = at_rest[eye];
     const double shown = rest > 0 ? static_cast<double>(CountPart(fitted_buffers_, EyeballPart(eye))) / rest : 0;

@@ -140,6 +140,9 @@ class Redirector {
                                           const Parameters& posed_target, std::string& note);
   // `target` as the redirection poses it: with the fitted lids when they are not warped.
   Parameters PosedTarget(const Parameters& fitted, const Parameters& target) const;
+  // How many pixels of each eyeball `phi` shows in `crop` (rasterized with
+  // target_renderer_ into target_buffers_).
+  std::array<int, 2> EyeballPixels(const Parameters& phi, const Camera& crop);
   // The eyes of `fitted` (rendered in fitted_buffers_ over `crop`) open
   // enough to redirect; the others are named in `note`.
   std::array<bool, 2> OpenEyes(const Parameters& fitted, const Camera& crop, std::string& note);

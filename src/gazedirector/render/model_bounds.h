@@ -15,4 +15,9 @@ namespace gazedirector {
 cv::Rect ModelBounds(const PosedModel& posed, const Camera& camera, double margin = 0.04,
                      std::array<bool, 2> eyes = {true, true});
 
+// The image rectangle both eyeballs of `posed` project to, a pixel wider on
+// each side and clipped to the image (empty when they are outside it or
+// behind the camera): every pixel they can cover.
+cv::Rect EyeballBounds(const PosedModel& posed, const Camera& camera);
+
 }  // namespace gazedirector

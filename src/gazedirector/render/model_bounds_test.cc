@@ -43,6 +43,35 @@ TEST(ModelBoundsTest, TheRenderLiesWithinTheBoundsAndReachesTheirSides) {
   }
 }
 
+// The redirection counts eyeball pixels within these bounds only: every
+// pixel a render gives an eyeball lies inside them, over gazes, lids and
+// head turns, and they are far smaller than the eye regions' bounds.
+TEST(ModelBoundsTest, TheEyeballsRenderWithinTheirBounds) {
+  const Camera camera = Camera::Default(640, 480);
+  Renderer renderer(SharedModel());
+  RenderBuffers buffers;
+  for (double yaw : {-25.0, 0.0, 20.0}) {
+    for (double gaze_pitch : {-30.0, 0.0, 25.0}) {
+      Parameters phi;
+      phi.block<Block::kTranslation>() = Eigen::Vector3d(-20, 10, 450);
+      phi.block<Block::kRotation>() = Eigen::Vector3d(5, yaw, 0);
+      phi.gaze_pitch() = gaze_pitch;
+      phi.gaze_yaw() = -0.5 * yaw;
+      phi.eyelid_pitch() = gaze_pitch;
+      renderer.Render(phi, camera, buffers);
+      const cv::Rect eyeballs = EyeballBounds(renderer.posed(), camera);
+      int inside = 0;
+      for (int pixel : buffers.foreground) {
+        if (!IsEyeball(buffers.PartAt(pixel))) continue;
+        ASSERT_TRUE(eyeballs.contains({pixel % camera.width, pixel / camera.width})) << "yaw " << yaw;
+        ++inside;
+      }
+      EXPECT_GT(inside, 100) << "yaw " << yaw << " pitch " << gaze_pitch;
+      EXPECT_LT(eyeballs.area(), 0.6 * ModelBounds(renderer.posed(), camera, 0.0).area()) << "yaw " << yaw;
+    }
+  }
+}
+
 TEST(ModelBoundsTest, AModelOutsideTheImageOrBehindTheCameraHasNoBounds) {
   const Camera camera = Camera::Default(640, 480);
   PosedModel posed;
@@ -54,6 +83,7 @@ TEST(ModelBoundsTest, AModelOutsideTheImageOrBehindTheCameraHasNoBounds) {
   phi.block<Block::kTranslation>() = Eigen::Vector3d(0, 0, -300);
   SharedModel()->Pose(phi, posed, workspace);
   EXPECT_TRUE(ModelBounds(posed, camera).empty());
+  EXPECT_TRUE(EyeballBounds(posed, camera).empty());
 }
 
 }  // namespace
