@@ -98,8 +98,7 @@ double Fitter::StepSize(int index, const Parameters& phi, const Camera& camera) 
     case Block::kGaze: return std::clamp(RadToDeg(half_pixel_mm / 10.75) * (element == 2 ? 2 : 1), 0.1, 3.0);
     case Block::kEyelid:
     case Block::kEyelidClosure: return std::clamp(RadToDeg(half_pixel_mm / 12.0), 0.2, 3.0);
-    case Block::kLightDirection: return 3.0;
-    default: return 0.02;  // linear parameters have exact derivatives; this is unused
+    default: return 0.02;  // the appearance and light have exact derivatives; this is unused
   }
 }
 
@@ -108,7 +107,8 @@ Fitter::Fitter(std::shared_ptr<const EyeRegionModel> model, FitOptions options, 
       options_(options),
       pool_(pool ? std::move(pool) : std::make_shared<ThreadPool>()),
       landmarks_(*model_) {
-  for (int i = 0; i < pool_->size(); ++i) workspaces_.push_back(std::make_unique<EvaluationWorkspace>(model_));
+  // One to hold Φ's render through a linearisation, one per thread for the rest.
+  for (int i = 0; i <= pool_->size(); ++i) workspaces_.push_back(std::make_unique<EvaluationWorkspace>(model_));
 }
 
 std::vector<Fitter::Level> Fitter::Pyramid(const cv::Mat& image, const cv::Rect2d& region_d, const Camera& camera,
@@ -256,56 +256,63 @@ FitResult Fitter::FitEyePatchAt(const cv::Mat& crop, int eye, double pitch, doub
   return result;
 }
 
+void Fitter::ExactColumns(const FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
+                          const std::vector<std::pair<int, int>>& exact) {
+  EvaluationWorkspace& work = main();
+  std::vector<int> which;
+  for (const auto& [column, k] : exact) which.push_back(k);
+  work.renderer.ExactJacobian(phi, problem.camera(), work.buffers, which, exact_jacobian_);
+  const std::vector<int>& domain = problem.domain();
+  pixel_scales_.resize(domain.size());
+  for (std::size_t d = 0; d < domain.size(); ++d) pixel_scales_[d] = problem.PixelScale(work, domain[d]);
+  const int rows = problem.num_residuals();
+  const int texture_prior_row = rows - FittingProblem::kPoseResiduals - kNumTextureModes;
+  for (std::size_t n = 0; n < exact.size(); ++n) {
+    const int column = exact[n].first;
+    auto out = jacobian_.col(column);
+    out.setZero();
+    const auto derivatives = exact_jacobian_.col(static_cast<Eigen::Index>(n));
+    for (std::size_t d = 0; d < domain.size(); ++d) {
+      const int i = work.foreground_index[domain[d]];
+      if (i < 0) continue;
+      for (int c = 0; c < 3; ++c) out[3 * static_cast<Eigen::Index>(d) + c] = derivatives[3 * i + c] * pixel_scales_[d];
+    }
+    const int parameter = free[column];
+    const int texture = parameter - LayoutOf(Block::kTexture).offset;
+    if (texture >= 0 && texture < kNumTextureModes) {
+      out[texture_prior_row + texture] = static_cast<float>(std::sqrt(problem.weights().texture));
+    }
+  }
+}
+
 double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
                          Eigen::MatrixXd& normal, Eigen::VectorXd& gradient) {
   const int rows = problem.num_residuals();
   const int columns = static_cast<int>(free.size());
   jacobian_.resize(rows, columns);
-  // The residuals at Φ, and from the same render the exact columns of the
-  // parameters colour is linear in.
-  EvaluationWorkspace& main = *workspaces_[0];
-  const EnergyTerms terms = problem.Evaluate(phi, main, &residuals_);
+  const EnergyTerms terms = problem.Evaluate(phi, main(), &residuals_);
   std::vector<int> numeric;
-  std::vector<std::pair<int, int>> linear;  // (column, index in Renderer::LinearParameters)
-  const std::vector<int>& linear_parameters = Renderer::LinearParameters();
+  std::vector<std::pair<int, int>> exact;  // (column, index in Renderer::ExactParameters)
+  const std::vector<int>& exact_parameters = Renderer::ExactParameters();
   for (int c = 0; c < columns; ++c) {
-    const auto found = std::find(linear_parameters.begin(), linear_parameters.end(), free[c]);
-    if (found == linear_parameters.end()) {
+    const auto found = std::find(exact_parameters.begin(), exact_parameters.end(), free[c]);
+    if (found == exact_parameters.end()) {
       numeric.push_back(c);
     } else {
-      linear.emplace_back(c, static_cast<int>(found - linear_parameters.begin()));
+      exact.emplace_back(c, static_cast<int>(found - exact_parameters.begin()));
     }
   }
-  if (!linear.empty()) {
-    std::vector<int> which;
-    for (const auto& [column, k] : linear) which.push_back(k);
-    main.renderer.LinearJacobian(phi, problem.camera(), main.buffers, which, linear_);
-    const std::vector<int>& domain = problem.domain();
-    pixel_scales_.resize(domain.size());
-    for (std::size_t d = 0; d < domain.size(); ++d) pixel_scales_[d] = problem.PixelScale(main, domain[d]);
-    const int texture_prior_row = rows - FittingProblem::kPoseResiduals - kNumTextureModes;
-    for (std::size_t n = 0; n < linear.size(); ++n) {
-      const int column = linear[n].first;
-      auto out = jacobian_.col(column);
-      out.setZero();
-      for (std::size_t d = 0; d < domain.size(); ++d) {
-        const int i = main.foreground_index[domain[d]];
-        if (i < 0) continue;
-        for (int c = 0; c < 3; ++c) {
-          out[3 * static_cast<Eigen::Index>(d) + c] = linear_(3 * i + c, static_cast<Eigen::Index>(n)) * pixel_scales_[d];
-        }
-      }
-      const int parameter = free[column];
-      const int texture = parameter - LayoutOf(Block::kTexture).offset;
-      if (texture >= 0 && texture < kNumTextureModes) {
-        out[texture_prior_row + texture] = static_cast<float>(std::sqrt(problem.weights().texture));
-      }
+  // The exact columns come from Φ's render in the main workspace, so they are
+  // one task beside the central differences (two renders per parameter),
+  // which render in the threads' own workspaces.
+  const int exact_tasks = exact.empty() ? 0 : 1;
+  pool_->ParallelFor(static_cast<int>(numeric.size()) + exact_tasks, [&](int task, int worker) {
+    if (task < exact_tasks) {
+      ExactColumns(problem, phi, free, exact);
+      return;
     }
-  }
-  // Central differences, two renders per parameter, spread over the threads.
-  pool_->ParallelFor(static_cast<int>(numeric.size()), [&](int k, int worker) {
-    EvaluationWorkspace& work = *workspaces_[worker];
-    const int column = numeric[k];
+    EvaluationWorkspace& work = scratch(worker);
+    const int column = numeric[task - exact_tasks];
     const int index = free[column];
     const double h = StepSize(index, phi, problem.camera());
     Parameters up = phi, down = phi;
@@ -315,12 +322,29 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
     problem.Evaluate(down, work, &work.minus);
     jacobian_.col(column) = (work.plus - work.minus) / static_cast<float>(2 * h);
   });
-  // JᵀJ is symmetric: one triangle, half the work of a full product.
-  normal_float_.setZero(columns, columns);
-  normal_float_.selfadjointView<Eigen::Lower>().rankUpdate(jacobian_.transpose());
-  normal = normal_float_.selfadjointView<Eigen::Lower>().toDenseMatrix().cast<double>();
-  gradient = (jacobian_.transpose() * residuals_).cast<double>();
+  NormalEquations(normal, gradient);
   return terms.total();
+}
+
+void Fitter::NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient) {
+  // Summed over a fixed number of row ranges spread over the threads: the
+  // same sums with any number of threads. JᵀJ is symmetric: one triangle,
+  // half the work of a full product.
+  const Eigen::Index rows = jacobian_.rows(), columns = jacobian_.cols();
+  pool_->ParallelFor(kNormalChunks, [&](int chunk, int) {
+    const Eigen::Index begin = rows * chunk / kNormalChunks, end = rows * (chunk + 1) / kNormalChunks;
+    const auto part = jacobian_.middleRows(begin, end - begin);
+    normal_parts_[chunk].setZero(columns, columns);
+    normal_parts_[chunk].selfadjointView<Eigen::Lower>().rankUpdate(part.transpose());
+    gradient_parts_[chunk] = part.transpose() * residuals_.segment(begin, end - begin);
+  });
+  normal.setZero(columns, columns);
+  gradient.setZero(columns);
+  for (int chunk = 0; chunk < kNormalChunks; ++chunk) {
+    normal += normal_parts_[chunk].cast<double>();
+    gradient += gradient_parts_[chunk].cast<double>();
+  }
+  normal = normal.selfadjointView<Eigen::Lower>().toDenseMatrix();
 }
 
 // Iterations of annealed Gauss-Newton on one pyramid level, from Φ; counts
@@ -328,14 +352,13 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
 // whether it stopped because E stopped falling.
 bool Fitter::RunLevel(FittingProblem& problem, int level, int budget, const std::vector<int>& free,
                       const Eigen::Vector2d* search_centre, Parameters& phi, int& iteration, std::vector<FitIteration>* history) {
-  EvaluationWorkspace& main = *workspaces_[0];
   const double base_landmarks = options_.weights.landmarks;
   int stalled = 0;
   for (int local = 0; local < budget; ++local, ++iteration) {
     const double progress = options_.max_iterations > 1 ? static_cast<double>(iteration) / (options_.max_iterations - 1) : 1.0;
     problem.weights().landmarks = base_landmarks * (1.0 - (1.0 - options_.landmark_final) * progress);
-    const EnergyTerms current = problem.Evaluate(phi, main, nullptr);
-    problem.SetDomain(main.buffers, kDomainMargin);
+    const EnergyTerms current = problem.Evaluate(phi, main(), nullptr);
+    problem.SetDomain(main().buffers, kDomainMargin);
     if (history != nullptr && history->empty()) history->push_back({level, current, phi, 0.0});
 
     Eigen::MatrixXd normal;
@@ -353,7 +376,7 @@ bool Fitter::RunLevel(FittingProblem& problem, int level, int budget, const std:
       Parameters trial = phi;
       for (std::size_t k = 0; k < free.size(); ++k) trial[free[k]] += eta * step[static_cast<Eigen::Index>(k)];
       ClampToBounds(trial);
-      const EnergyTerms terms = problem.Evaluate(trial, main, nullptr);
+      const EnergyTerms terms = problem.Evaluate(trial, main(), nullptr);
       if (terms.foreground > 0 && terms.total() < energy) {
         const double decrease = (energy - terms.total()) / std::max(energy, 1e-12);
         phi = trial;
@@ -412,7 +435,7 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
       int start_iteration = 0;
       RunLevel(*levels[0].problem, 0, budget, free, search_centre, start, start_iteration,
                history ? &start_history : nullptr);
-      const double energy = levels[0].problem->Evaluate(start, *workspaces_[0], nullptr).total();
+      const double energy = levels[0].problem->Evaluate(start, main(), nullptr).total();
       if (energy < best) best = energy, best_phi = start, best_history = start_history, best_iteration = start_iteration;
     }
     phi = best_phi;
@@ -429,7 +452,7 @@ FitResult Fitter::Solve(std::vector<Level>& levels, Parameters phi, const Parame
   result.iterations = iteration;
   FittingProblem& finest = *levels.back().problem;
   result.phi = phi;
-  result.terms = finest.Evaluate(phi, *workspaces_[0], nullptr);
+  result.terms = finest.Evaluate(phi, main(), nullptr);
   result.work_camera = finest.camera();
   Assess(result, finest);
   return result;
@@ -457,7 +480,7 @@ Parameters Fitter::BestGaze(FittingProblem& problem, const Parameters& phi, cons
   candidates.push_back(phi);
   std::vector<double> energies(candidates.size());
   pool_->ParallelFor(static_cast<int>(candidates.size()), [&](int i, int worker) {
-    energies[i] = problem.Evaluate(candidates[i], *workspaces_[worker], nullptr).total();
+    energies[i] = problem.Evaluate(candidates[i], scratch(worker), nullptr).total();
   });
   return candidates[std::min_element(energies.begin(), energies.end()) - energies.begin()];
 }
@@ -478,9 +501,8 @@ void Fitter::Assess(FitResult& result, const FittingProblem& problem) const {
   // Landmark agreement on the lids and corners, relative to the eye's width.
   const auto& targets = problem.target_landmarks();
   const auto& landmarks = problem.landmark_model().landmarks();
-  EvaluationWorkspace& main = *workspaces_[0];
   std::vector<Eigen::Vector2d> projected;
-  problem.landmark_model().Project(main.renderer.posed(), problem.camera(), projected);
+  problem.landmark_model().Project(main().renderer.posed(), problem.camera(), projected);
   double squared = 0, width = 0;
   int count = 0;
   for (std::size_t k = 0; k < landmarks.size() && !targets.empty(); ++k) {

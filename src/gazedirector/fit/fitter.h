@@ -1,7 +1,9 @@
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -102,7 +104,8 @@ struct EyePatchFraming {
 // Fits the multi-part eye-region model to images by analysis-by-synthesis
 // with annealed Gauss-Newton: numerical central-difference Jacobians (two
 // renders per parameter, spread over the thread pool) and exact ones for the
-// parameters colour is linear in, on a coarse-to-fine image pyramid.
+// appearance and light (Renderer::ExactJacobian), on a coarse-to-fine image
+// pyramid.
 class Fitter {
  public:
   Fitter(std::shared_ptr<const EyeRegionModel> model, FitOptions options = {},
@@ -160,10 +163,20 @@ class Fitter {
   // One Gauss-Newton linearisation at Φ: the residuals, J^T J and J^T r over `free`.
   double Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
                    Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);
+  // JᵀJ (full) and Jᵀr of the current Jacobian and residuals.
+  void NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);
   std::vector<Level> Pyramid(const cv::Mat& image, const cv::Rect2d& region, const Camera& camera,
                              const LandmarkModel& landmarks, const std::vector<Eigen::Vector2d>& targets,
                              const std::vector<double>& weights, std::array<bool, 2> eyes, double scale) const;
+  // The exact columns (Renderer::ExactJacobian), (column in the Jacobian,
+  // index in Renderer::ExactParameters) each, from Φ's render in main().
+  void ExactColumns(const FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
+                    const std::vector<std::pair<int, int>>& exact);
   void Assess(FitResult& result, const FittingProblem& problem) const;
+  // The workspace that holds Φ's render (and the line search's trials), and
+  // each thread's own for the other renders.
+  EvaluationWorkspace& main() const { return *workspaces_.front(); }
+  EvaluationWorkspace& scratch(int worker) const { return *workspaces_[worker + 1]; }
 
   std::shared_ptr<const EyeRegionModel> model_;
   FitOptions options_;
@@ -171,8 +184,11 @@ class Fitter {
   LandmarkModel landmarks_;
   std::vector<std::unique_ptr<EvaluationWorkspace>> workspaces_;
   Eigen::MatrixXf jacobian_;
-  Eigen::MatrixXf linear_;
-  Eigen::MatrixXf normal_float_;  // JᵀJ before widening to double
+  Eigen::MatrixXf exact_jacobian_;
+  // JᵀJ and Jᵀr over each of a few row ranges, before widening to double.
+  static constexpr int kNormalChunks = 4;
+  std::array<Eigen::MatrixXf, kNormalChunks> normal_parts_;
+  std::array<Eigen::VectorXf, kNormalChunks> gradient_parts_;
   std::vector<float> pixel_scales_;  // each domain pixel's weight in the residuals, for the exact columns
   Eigen::VectorXf residuals_;
 };

@@ -8,6 +8,7 @@
 #include <immintrin.h>
 #endif
 
+#include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/util/simd.h"
 
@@ -424,10 +425,11 @@ void Renderer::ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out
   }
 }
 
-const std::vector<int>& Renderer::LinearParameters() {
+const std::vector<int>& Renderer::ExactParameters() {
   static const std::vector<int> parameters = [] {
     std::vector<int> indices;
-    for (Block block : {Block::kTexture, Block::kIrisColour, Block::kScleraTint, Block::kAmbient, Block::kLightColour}) {
+    for (Block block : {Block::kTexture, Block::kIrisColour, Block::kScleraTint, Block::kAmbient, Block::kLightColour,
+                        Block::kLightDirection}) {
       for (int i = 0; i < LayoutOf(block).size; ++i) indices.push_back(LayoutOf(block).offset + i);
     }
     return indices;
@@ -435,20 +437,43 @@ const std::vector<int>& Renderer::LinearParameters() {
   return parameters;
 }
 
-void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
-                              Eigen::MatrixXf& jacobian) const {
-  std::vector<int> all(LinearParameters().size());
+void Renderer::ExactJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                             Eigen::MatrixXf& jacobian) const {
+  std::vector<int> all(ExactParameters().size());
   for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
-  LinearJacobian(phi, camera, buffers, all, jacobian);
+  ExactJacobian(phi, camera, buffers, all, jacobian);
 }
 
-void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
-                              const std::vector<int>& which, Eigen::MatrixXf& jacobian) const {
-  constexpr int kTexture = 0, kIris = kNumTextureModes, kSclera = kIris + 3, kAmbient = kSclera + 3, kLight = kAmbient + 3;
+Eigen::Matrix2Xf Renderer::LambertDerivatives(const Parameters& phi) const {
+  // d(max(0, n.l))/dθ = n.dl/dθ where n.l > 0, per degree of the light's pitch and yaw.
+  const float pitch = static_cast<float>(DegToRad(phi.light_direction_deg().x()));
+  const float yaw = static_cast<float>(DegToRad(phi.light_direction_deg().y()));
+  const float per_degree = static_cast<float>(DegToRad(1.0));
+  const Eigen::Vector3f light = phi.LightDirection().cast<float>();
+  const float sp = std::sin(pitch), cp = std::cos(pitch), sy = std::sin(yaw), cy = std::cos(yaw);
+  const Eigen::Vector3f by_pitch = per_degree * Eigen::Vector3f(-sp * sy, -cp, sp * cy);
+  const Eigen::Vector3f by_yaw = per_degree * Eigen::Vector3f(cp * cy, 0.0f, cp * sy);
+  Eigen::Matrix2Xf derivatives = Eigen::Matrix2Xf::Zero(2, surface_.cols());
+  for (int part = 0; part < kNumParts; ++part) {
+    if (!eyes_[EyeOfPart(part)]) continue;
+    const Eigen::Matrix3Xf& normals = posed_.parts[part].normals;
+    const int offset = model_->vertex_offset(part);
+    for (Eigen::Index i = 0; i < normals.cols(); ++i) {
+      if (normals.col(i).dot(light) <= 0.0f) continue;
+      derivatives.col(offset + i) = Eigen::Vector2f(normals.col(i).dot(by_pitch), normals.col(i).dot(by_yaw));
+    }
+  }
+  return derivatives;
+}
+
+void Renderer::ExactJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                             const std::vector<int>& which, Eigen::MatrixXf& jacobian) const {
+  constexpr int kTexture = 0, kIris = kNumTextureModes, kSclera = kIris + 3, kAmbient = kSclera + 3;
+  constexpr int kLight = kAmbient + 3, kDirection = kLight + 3;
   const int count = static_cast<int>(buffers.foreground.size());
   jacobian.setZero(3 * count, static_cast<Eigen::Index>(which.size()));
   // Each requested parameter's column, or -1.
-  std::array<int, kLight + 3> column;
+  std::array<int, kDirection + 2> column;
   column.fill(-1);
   for (std::size_t k = 0; k < which.size(); ++k) column[which[k]] = static_cast<int>(k);
   bool any_texture = false;
@@ -463,12 +488,28 @@ void Renderer::LinearJacobian(const Parameters& phi, const Camera& camera, const
   auto set = [&](int i, int c, int parameter, float value) {
     if (column[parameter] >= 0) jacobian(3 * i + c, column[parameter]) = value;
   };
+  const bool any_direction = column[kDirection] >= 0 || column[kDirection + 1] >= 0;
+  const Eigen::Matrix2Xf lambert_derivatives = any_direction ? LambertDerivatives(phi) : Eigen::Matrix2Xf();
+  const VisibilityBuffer& vis = buffers.visibility;
   for (int i = 0; i < count; ++i) {
     const PixelShading s = ShadePixel(in, i, buffers);
     const Eigen::Vector3f& shade = s.light;
     for (int c = 0; c < 3; ++c) {
       set(i, c, kAmbient + c, s.albedo[c]);
       set(i, c, kLight + c, s.albedo[c] * s.lambert);
+    }
+    if (any_direction) {
+      // The Lambertian factor is interpolated from the vertices' as in SurfaceAt.
+      const int pixel = buffers.foreground[i];
+      const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
+      const float b1 = vis.b1(pixel), b2 = vis.b2(pixel);
+      const Eigen::Vector2f lambert = (1.0f - b1 - b2) * lambert_derivatives.col(t[0]) +
+                                      b1 * lambert_derivatives.col(t[1]) + b2 * lambert_derivatives.col(t[2]);
+      for (int c = 0; c < 3; ++c) {
+        const float per_lambert = s.albedo[c] * in.light_colour[c];
+        set(i, c, kDirection, per_lambert * lambert[0]);
+        set(i, c, kDirection + 1, per_lambert * lambert[1]);
+      }
     }
     if (s.eyeball) {
       for (int c = 0; c < 3; ++c) {

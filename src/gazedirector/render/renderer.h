@@ -75,18 +75,20 @@ class Renderer {
   // irises show) and 0 elsewhere, for InterpolateAttribute.
   static std::array<Eigen::MatrixXf, kNumParts> CorneaAttribute(const EyeRegionModel& model);
 
-  // d(colour)/d(parameter) of every foreground pixel for the parameters that
-  // colour is linear in (texture PCA, iris and sclera colours, ambient and
-  // directional light colour), exact, from the last Render with `phi`:
-  // row 3i + c is channel c of foreground pixel i, columns follow
-  // LinearParameters().
-  void LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
-                      Eigen::MatrixXf& jacobian) const;
-  // Only the columns `which` (indices into LinearParameters()), in that
+  // d(colour)/d(parameter) of every foreground pixel, exact, from the last
+  // Render with `phi`, for the parameters that colour is linear in (texture
+  // PCA, iris and sclera colours, ambient and directional light colour) and
+  // the light's direction (colour is affine in the Lambertian factor, which
+  // moves by n.dl/dθ at each vertex the light reaches; the geometry does not
+  // move): row 3i + c is channel c of foreground pixel i, columns follow
+  // ExactParameters().
+  void ExactJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                     Eigen::MatrixXf& jacobian) const;
+  // Only the columns `which` (indices into ExactParameters()), in that
   // order: a fit that holds the texture skips sampling its eight modes.
-  void LinearJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
-                      const std::vector<int>& which, Eigen::MatrixXf& jacobian) const;
-  static const std::vector<int>& LinearParameters();
+  void ExactJacobian(const Parameters& phi, const Camera& camera, const RenderBuffers& buffers,
+                     const std::vector<int>& which, Eigen::MatrixXf& jacobian) const;
+  static const std::vector<int>& ExactParameters();
 
   // Renders only the parts of these eyes (both by default): a single eye is
   // fitted to a crop of one eye.
@@ -114,6 +116,8 @@ class Renderer {
   [[gnu::always_inline]] inline PixelShading ShadeSurface(const ShadingInputs& in, int pixel, const Eigen::Vector4f& surface,
                                                           const RenderBuffers& out) const;
   ShadingInputs Inputs(const Parameters& phi, const Camera& camera) const;
+  // Per vertex (all parts' columns), d(max(0, n.l))/d(light pitch, yaw) per degree at the last pose.
+  Eigen::Matrix2Xf LambertDerivatives(const Parameters& phi) const;
   static constexpr int kShadingChunk = 64;  // pixels; a bit mask marks its eyeball pixels
   void ShadeChunk(const ShadingInputs& in, int first, RenderBuffers& out) const;
 

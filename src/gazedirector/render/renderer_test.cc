@@ -229,21 +229,22 @@ TEST(RendererTest, ThePupilSizeResizesThePupilAndKeepsTheIrissEdge) {
   EXPECT_NEAR(same_iris, iris, 0.03 * iris);
 }
 
-// The exact derivatives of colour for the linear appearance parameters
+// The exact derivatives of colour for the appearance and light parameters
 // agree with central differences of two renders.
-TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {
+TEST(RendererTest, ExactJacobianMatchesNumericalDerivatives) {
   Renderer renderer(SharedModel());
   RenderBuffers buffers, plus, minus;
   Parameters phi = Framed();
   phi.eyelid_pitch() = -12;  // the look-down texture blends in
   phi.gaze_pitch() = -12;
   phi.texture()[2] = 0.7;
+  phi.block<Block::kLightDirection>() = Eigen::Vector2d(25, -15);  // above and to the image's left
   renderer.Render(phi, kCamera, buffers);
   Eigen::MatrixXf analytic;
-  renderer.LinearJacobian(phi, kCamera, buffers, analytic);
-  const std::vector<int>& parameters = Renderer::LinearParameters();
+  renderer.ExactJacobian(phi, kCamera, buffers, analytic);
+  const std::vector<int>& parameters = Renderer::ExactParameters();
   ASSERT_EQ(analytic.cols(), static_cast<Eigen::Index>(parameters.size()));
-  ASSERT_EQ(parameters.size(), 20u);
+  ASSERT_EQ(parameters.size(), 22u);
   for (std::size_t k = 0; k < parameters.size(); ++k) {
     const double h = 0.05;
     Parameters up = phi, down = phi;
@@ -264,16 +265,17 @@ TEST(RendererTest, LinearJacobianMatchesNumericalDerivatives) {
 
 // Asking for some of the exact columns gives those columns of the full
 // matrix, in the order asked.
-TEST(RendererTest, LinearJacobianOfSomeParametersMatchesTheFullOne) {
+TEST(RendererTest, ExactJacobianOfSomeParametersMatchesTheFullOne) {
   Renderer renderer(SharedModel());
   RenderBuffers buffers;
   Parameters phi = Framed();
   phi.eyelid_pitch() = -12;
   renderer.Render(phi, kCamera, buffers);
   Eigen::MatrixXf full, some;
-  renderer.LinearJacobian(phi, kCamera, buffers, full);
-  const std::vector<int> which = {19, 3, 8, 12, 0, 15};  // light (blue), texture modes 3 and 0, iris, sclera, ambient
-  renderer.LinearJacobian(phi, kCamera, buffers, which, some);
+  renderer.ExactJacobian(phi, kCamera, buffers, full);
+  // light (blue), texture modes 3 and 0, iris, sclera, ambient, the light's yaw
+  const std::vector<int> which = {19, 3, 8, 12, 0, 15, 21};
+  renderer.ExactJacobian(phi, kCamera, buffers, which, some);
   ASSERT_EQ(some.cols(), static_cast<Eigen::Index>(which.size()));
   for (std::size_t k = 0; k < which.size(); ++k) {
     EXPECT_EQ((some.col(static_cast<Eigen::Index>(k)) - full.col(which[k])).cwiseAbs().maxCoeff(), 0.0f) << which[k];
