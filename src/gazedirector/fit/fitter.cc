@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <opencv2/imgproc.hpp>
@@ -11,6 +12,7 @@
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/render/model_bounds.h"
+#include "gazedirector/util/gram_matrix.h"
 
 namespace gazedirector {
 namespace {
@@ -326,25 +328,17 @@ double Fitter::Linearize(FittingProblem& problem, const Parameters& phi, const s
   return terms.total();
 }
 
-void Fitter::NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient) {
-  // Summed over a fixed number of row ranges spread over the threads: the
-  // same sums with any number of threads. JᵀJ is symmetric: one triangle,
-  // half the work of a full product.
-  const Eigen::Index rows = jacobian_.rows(), columns = jacobian_.cols();
-  pool_->ParallelFor(kNormalChunks, [&](int chunk, int) {
-    const Eigen::Index begin = rows * chunk / kNormalChunks, end = rows * (chunk + 1) / kNormalChunks;
-    const auto part = jacobian_.middleRows(begin, end - begin);
-    normal_parts_[chunk].setZero(columns, columns);
-    normal_parts_[chunk].selfadjointView<Eigen::Lower>().rankUpdate(part.transpose());
-    gradient_parts_[chunk] = part.transpose() * residuals_.segment(begin, end - begin);
-  });
-  normal.setZero(columns, columns);
-  gradient.setZero(columns);
-  for (int chunk = 0; chunk < kNormalChunks; ++chunk) {
-    normal += normal_parts_[chunk].cast<double>();
-    gradient += gradient_parts_[chunk].cast<double>();
-  }
-  normal = normal.selfadjointView<Eigen::Lower>().toDenseMatrix();
+void Fitter::NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient) const {
+  // The Gram matrix of [J r] holds JᵀJ and, in its last row, Jᵀr. One thread:
+  // spread over two, the sums took as long (the columns were written by both).
+  const Eigen::Index columns = jacobian_.cols();
+  std::vector<const float*> data;
+  for (Eigen::Index c = 0; c < columns; ++c) data.push_back(jacobian_.col(c).data());
+  data.push_back(residuals_.data());
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(columns + 1, columns + 1);
+  AddGramLowerTriangle(data, 0, jacobian_.rows(), gram);
+  normal = gram.topLeftCorner(columns, columns).selfadjointView<Eigen::Lower>();
+  gradient = gram.row(columns).head(columns).transpose();
 }
 
 // Iterations of annealed Gauss-Newton on one pyramid level, from Φ; counts

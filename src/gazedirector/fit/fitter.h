@@ -164,7 +164,7 @@ class Fitter {
   double Linearize(FittingProblem& problem, const Parameters& phi, const std::vector<int>& free,
                    Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);
   // JᵀJ (full) and Jᵀr of the current Jacobian and residuals.
-  void NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient);
+  void NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient) const;
   std::vector<Level> Pyramid(const cv::Mat& image, const cv::Rect2d& region, const Camera& camera,
                              const LandmarkModel& landmarks, const std::vector<Eigen::Vector2d>& targets,
                              const std::vector<double>& weights, std::array<bool, 2> eyes, double scale) const;
@@ -185,10 +185,6 @@ class Fitter {
   std::vector<std::unique_ptr<EvaluationWorkspace>> workspaces_;
   Eigen::MatrixXf jacobian_;
   Eigen::MatrixXf exact_jacobian_;
-  // JᵀJ and Jᵀr over each of a few row ranges, before widening to double.
-  static constexpr int kNormalChunks = 4;
-  std::array<Eigen::MatrixXf, kNormalChunks> normal_parts_;
-  std::array<Eigen::VectorXf, kNormalChunks> gradient_parts_;
   std::vector<float> pixel_scales_;  // each domain pixel's weight in the residuals, for the exact columns
   Eigen::VectorXf residuals_;
 };

@@ -145,9 +145,10 @@ TEST(FitterTest, ARefitKeepsTheHeldParametersAndFindsTheGaze) {
   EXPECT_LT(refit.terms.total(), 1.1 * first.terms.total());
 }
 
-// The Jacobian's columns and the normal equations' sums are split over the
-// threads, but not by how many there are: a fit comes out the same, to the
-// last bit, with one thread or three, fresh from the landmarks or warm.
+// The Jacobian's columns are spread over the threads, each rendered in
+// whichever thread's workspace takes it, the exact ones beside them: a fit
+// comes out the same, to the last bit, with one thread or three, fresh from
+// the landmarks or warm.
 TEST(FitterTest, AFitIsTheSameWithAnyNumberOfThreads) {
   const testing::FittedStill& still = testing::FitStill("images/d30.jpg");
   ASSERT_EQ(still.faces.size(), 1u);
