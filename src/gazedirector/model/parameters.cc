@@ -60,6 +60,16 @@ Eigen::Vector3d Parameters::LightDirection() const {
   return Eigen::Vector3d(std::cos(pitch) * std::sin(yaw), -std::sin(pitch), -std::cos(pitch) * std::cos(yaw));
 }
 
+Eigen::Matrix<double, 3, 2> Parameters::LightDirectionJacobian() const {
+  const double pitch = DegToRad(light_direction_deg().x());
+  const double yaw = DegToRad(light_direction_deg().y());
+  const double sp = std::sin(pitch), cp = std::cos(pitch), sy = std::sin(yaw), cy = std::cos(yaw);
+  Eigen::Matrix<double, 3, 2> jacobian;
+  jacobian.col(0) = Eigen::Vector3d(-sp * sy, -cp, sp * cy);
+  jacobian.col(1) = Eigen::Vector3d(cp * cy, 0.0, cp * sy);
+  return DegToRad(1.0) * jacobian;
+}
+
 nlohmann::json Parameters::ToJson() const {
   nlohmann::json json = nlohmann::json::object();
   for (const BlockLayout& layout : kBlockLayout) {

@@ -125,6 +125,8 @@ class Parameters {
 
   // The unit vector toward the light in camera coordinates.
   Eigen::Vector3d LightDirection() const;
+  // Its derivatives by the light's pitch and yaw (the columns), per degree.
+  Eigen::Matrix<double, 3, 2> LightDirectionJacobian() const;
 
   nlohmann::json ToJson() const;
   // Missing blocks keep their defaults; wrong sizes fail with ExitCode::kBadInput.

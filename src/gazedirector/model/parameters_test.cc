@@ -70,5 +70,22 @@ TEST(ParametersTest, LightDirectionFollowsItsAngles) {
   EXPECT_LT((phi.LightDirection() - Eigen::Vector3d(0, -1, 0)).norm(), 1e-12) << "from above";
 }
 
+TEST(ParametersTest, LightDirectionJacobianMatchesCentralDifferences) {
+  for (const Eigen::Vector2d& angles : {Eigen::Vector2d(25, -15), Eigen::Vector2d(-60, 70), Eigen::Vector2d(0, 0)}) {
+    Parameters phi;
+    phi.block<Block::kLightDirection>() = angles;
+    const Eigen::Matrix<double, 3, 2> jacobian = phi.LightDirectionJacobian();
+    for (int k = 0; k < 2; ++k) {
+      constexpr double kStepDeg = 1e-4;
+      Parameters up = phi, down = phi;
+      up.block<Block::kLightDirection>()[k] += kStepDeg;
+      down.block<Block::kLightDirection>()[k] -= kStepDeg;
+      const Eigen::Vector3d numerical = (up.LightDirection() - down.LightDirection()) / (2 * kStepDeg);
+      EXPECT_LT((jacobian.col(k) - numerical).norm(), 1e-9) << "angles " << angles.transpose() << ", column " << k;
+      EXPECT_GT(jacobian.col(k).norm(), 1e-3) << "a degree of either angle moves the light";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gazedirector

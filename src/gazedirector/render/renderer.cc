@@ -446,13 +446,9 @@ void Renderer::ExactJacobian(const Parameters& phi, const Camera& camera, const 
 
 Eigen::Matrix2Xf Renderer::LambertDerivatives(const Parameters& phi) const {
   // d(max(0, n.l))/dθ = n.dl/dθ where n.l > 0, per degree of the light's pitch and yaw.
-  const float pitch = static_cast<float>(DegToRad(phi.light_direction_deg().x()));
-  const float yaw = static_cast<float>(DegToRad(phi.light_direction_deg().y()));
-  const float per_degree = static_cast<float>(DegToRad(1.0));
   const Eigen::Vector3f light = phi.LightDirection().cast<float>();
-  const float sp = std::sin(pitch), cp = std::cos(pitch), sy = std::sin(yaw), cy = std::cos(yaw);
-  const Eigen::Vector3f by_pitch = per_degree * Eigen::Vector3f(-sp * sy, -cp, sp * cy);
-  const Eigen::Vector3f by_yaw = per_degree * Eigen::Vector3f(cp * cy, 0.0f, cp * sy);
+  const Eigen::Matrix<float, 3, 2> by_angle = phi.LightDirectionJacobian().cast<float>();
+  const Eigen::Vector3f by_pitch = by_angle.col(0), by_yaw = by_angle.col(1);
   Eigen::Matrix2Xf derivatives = Eigen::Matrix2Xf::Zero(2, surface_.cols());
   for (int part = 0; part < kNumParts; ++part) {
     if (!eyes_[EyeOfPart(part)]) continue;
