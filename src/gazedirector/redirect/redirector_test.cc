@@ -548,8 +548,8 @@ TEST(RedirectorTest, AnIrisFittedBesideThePhotosLeavesNoDarkPatchInTheNewSclera)
     std::printf("fit %+.0f deg beside: %.1f%% of the new sclera darker than halfway to the iris\n", off, 100 * dark);
     // 10.5% / 14.8% before session 61 and 1.0% / 2.5% after it (both eyes' levels pooled); 0.0% / 4.8%
     // (4 of 83 pixels) since each eye's colours are matched apart, 4.5% / 10.8% without the drop. Since
-    // session 75's refit of d30 0.0% / 6.2% (5 of 81, in her image-right eye's outer corner along the
-    // lower lid, where the drop leaves 5 of the 12 it finds there), 5.7% / 14.8% without the drop.
+    // session 75's refit of d30 0.0% / 6.2% (5 of 81, all in her image-right eye's outer corner along
+    // the lower lid, where without the drop more of them lie), 5.7% / 14.8% without the drop.
     EXPECT_LT(dark, 0.09) << off;
   }
 }
