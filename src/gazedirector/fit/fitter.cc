@@ -336,7 +336,7 @@ void Fitter::NormalEquations(Eigen::MatrixXd& normal, Eigen::VectorXd& gradient)
   for (Eigen::Index c = 0; c < columns; ++c) data.push_back(jacobian_.col(c).data());
   data.push_back(residuals_.data());
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(columns + 1, columns + 1);
-  AddGramLowerTriangle(data, 0, jacobian_.rows(), gram);
+  AddGramLowerTriangle(data, jacobian_.rows(), gram);
   normal = gram.topLeftCorner(columns, columns).selfadjointView<Eigen::Lower>();
   gradient = gram.row(columns).head(columns).transpose();
 }

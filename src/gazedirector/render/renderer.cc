@@ -8,7 +8,6 @@
 #include <immintrin.h>
 #endif
 
-#include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_topology.h"
 #include "gazedirector/util/simd.h"
 

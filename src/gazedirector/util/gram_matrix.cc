@@ -20,8 +20,7 @@ Float8 Load(const float* p) {
 
 // The tile of columns [a0, a0 + kTile) x [b0, b0 + kTile); indices past the
 // last column repeat it, and only the lower triangle's entries are added.
-void AddTile(const std::vector<const float*>& columns, int a0, int b0, Eigen::Index begin, Eigen::Index end,
-             Eigen::MatrixXd& sums) {
+void AddTile(const std::vector<const float*>& columns, int a0, int b0, Eigen::Index rows, Eigen::MatrixXd& sums) {
   const int n = static_cast<int>(columns.size());
   const float* a[kTile];
   const float* b[kTile];
@@ -30,8 +29,8 @@ void AddTile(const std::vector<const float*>& columns, int a0, int b0, Eigen::In
     b[k] = columns[std::min(b0 + k, n - 1)];
   }
   Float8 products[kTile][kTile] = {};
-  Eigen::Index i = begin;
-  for (; i + kLanes <= end; i += kLanes) {
+  Eigen::Index i = 0;
+  for (; i + kLanes <= rows; i += kLanes) {
     Float8 x[kTile], y[kTile];
     for (int k = 0; k < kTile; ++k) x[k] = Load(a[k] + i), y[k] = Load(b[k] + i);
     for (int p = 0; p < kTile; ++p) {
@@ -43,7 +42,7 @@ void AddTile(const std::vector<const float*>& columns, int a0, int b0, Eigen::In
       if (a0 + p >= n || b0 + q > a0 + p) continue;
       double sum = 0;
       for (int lane = 0; lane < kLanes; ++lane) sum += products[p][q][lane];
-      for (Eigen::Index t = i; t < end; ++t) sum += a[p][t] * b[q][t];
+      for (Eigen::Index t = i; t < rows; ++t) sum += a[p][t] * b[q][t];
       sums(a0 + p, b0 + q) += sum;
     }
   }
@@ -51,11 +50,10 @@ void AddTile(const std::vector<const float*>& columns, int a0, int b0, Eigen::In
 
 }  // namespace
 
-void AddGramLowerTriangle(const std::vector<const float*>& columns, Eigen::Index begin, Eigen::Index end,
-                          Eigen::MatrixXd& sums) {
+void AddGramLowerTriangle(const std::vector<const float*>& columns, Eigen::Index rows, Eigen::MatrixXd& sums) {
   const int n = static_cast<int>(columns.size());
   for (int a0 = 0; a0 < n; a0 += kTile) {
-    for (int b0 = 0; b0 <= a0; b0 += kTile) AddTile(columns, a0, b0, begin, end, sums);
+    for (int b0 = 0; b0 <= a0; b0 += kTile) AddTile(columns, a0, b0, rows, sums);
   }
 }
 

@@ -6,16 +6,16 @@ namespace gazedirector {
 namespace {
 
 // Against the same sums in double, for column counts around the tile size
-// and row ranges that do not fill the last vector: the lower triangle
-// within float rounding, the upper left untouched.
+// and row ranges (unaligned starts, counts that do not fill the last vector):
+// the lower triangle within float rounding, the upper left untouched.
 TEST(GramMatrixTest, AddsTheLowerTriangleOfEveryPairsDotProduct) {
   for (int n : {1, 2, 3, 4, 7, 20}) {
     const Eigen::MatrixXf x = Eigen::MatrixXf::Random(1003, n);
-    std::vector<const float*> columns;
-    for (int c = 0; c < n; ++c) columns.push_back(x.col(c).data());
     for (auto [begin, end] : {std::pair<Eigen::Index, Eigen::Index>{0, 1003}, {5, 12}, {17, 990}, {3, 3}}) {
+      std::vector<const float*> columns;
+      for (int c = 0; c < n; ++c) columns.push_back(x.col(c).data() + begin);
       Eigen::MatrixXd sums = Eigen::MatrixXd::Constant(n, n, 1.0);
-      AddGramLowerTriangle(columns, begin, end, sums);
+      AddGramLowerTriangle(columns, end - begin, sums);
       const Eigen::MatrixXd rows = x.middleRows(begin, end - begin).cast<double>();
       const Eigen::MatrixXd expected = rows.transpose() * rows;
       for (int a = 0; a < n; ++a) {
