@@ -56,6 +56,15 @@ class VisibilityBuffer {
   const float* b1_data() const { return b1_.data(); }
   const float* b2_data() const { return b2_.data(); }
 
+  // An attribute given as one column per vertex, at a covered pixel whose
+  // triangle's vertices are the columns `corners` of `values` (an expression
+  // that reads `values`: assign it to a vector while `values` lives).
+  template <typename Columns>
+  auto Interpolate(int pixel, const Columns& values, const Eigen::Vector3i& corners) const {
+    const float w1 = b1_[pixel], w2 = b2_[pixel], w0 = 1.0f - w1 - w2;
+    return w0 * values.col(corners[0]) + w1 * values.col(corners[1]) + w2 * values.col(corners[2]);
+  }
+
   // Rasterizes the triangles that face the camera (meshes are wound
   // counter-clockwise seen from outside) with a depth test; covered pixels
   // store id_offset + the triangle's index. Triangles with a vertex nearer

@@ -46,7 +46,11 @@ TEST(RasterizerTest, BackFacesAreCulledAndTheNearerSurfaceWins) {
 TEST(RasterizerTest, BarycentricsReproduceThePixelPosition) {
   VisibilityBuffer buffer;
   buffer.Reset(16, 16);
-  const std::vector<ScreenVertex> v = {SnapVertex(1, 1, 10), SnapVertex(14, 3, 20), SnapVertex(4, 13, 30)};
+  // Each vertex's x, y and depth, as a column.
+  Eigen::Matrix3f xyz;
+  xyz << 1, 14, 4, 1, 3, 13, 10, 20, 30;
+  std::vector<ScreenVertex> v;
+  for (int i = 0; i < 3; ++i) v.push_back(SnapVertex(xyz(0, i), xyz(1, i), xyz(2, i)));
   // Clockwise on screen: (a, c, b) as stored order a, b, c must give positive Edge(a, b, c).
   const std::vector<Eigen::Vector3i> triangle = {{0, 2, 1}};
   buffer.Draw(v.data(), triangle.data(), 1, 0);
@@ -55,12 +59,10 @@ TEST(RasterizerTest, BarycentricsReproduceThePixelPosition) {
     for (int x = 0; x < 16; ++x) {
       const int pixel = y * 16 + x;
       if (!buffer.covered(pixel)) continue;
-      const float b1 = buffer.b1(pixel), b2 = buffer.b2(pixel), b0 = 1 - b1 - b2;
-      // Vertex order in the triangle: 0, 2, 1.
-      const float px = b0 * 1 + b1 * 4 + b2 * 14, py = b0 * 1 + b1 * 13 + b2 * 3;
-      EXPECT_NEAR(px, x, 1e-4);
-      EXPECT_NEAR(py, y, 1e-4);
-      EXPECT_NEAR(buffer.depth(pixel), b0 * 10 + b1 * 30 + b2 * 20, 1e-3);
+      const Eigen::Vector3f at_pixel = buffer.Interpolate(pixel, xyz, triangle[0]);
+      EXPECT_NEAR(at_pixel.x(), x, 1e-4);
+      EXPECT_NEAR(at_pixel.y(), y, 1e-4);
+      EXPECT_NEAR(buffer.depth(pixel), at_pixel.z(), 1e-3);
       ++checked;
     }
   }

@@ -327,8 +327,6 @@ inline Renderer::PixelShading Renderer::ShadeSurface(const ShadingInputs& in, in
                                                      const RenderBuffers& out) const {
   const VisibilityBuffer& vis = out.visibility;
   const int part = out.PartAt(pixel);
-  const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
-  const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
   PixelShading shading;
   shading.uv = a.head<2>();
   shading.lambert = a[2];
@@ -346,9 +344,8 @@ inline Renderer::PixelShading Renderer::ShadeSurface(const ShadingInputs& in, in
     // angular frame (azimuth, elevation).
     const int eye = EyeOfPart(part);
     const Eigen::Matrix2Xf& angles = model_->eyeball_angles();
-    const int first_vertex = model_->vertex_offset(part);
-    const Eigen::Vector2f angle = b0 * angles.col(t[0] - first_vertex) + b1 * angles.col(t[1] - first_vertex) +
-                                  b2 * angles.col(t[2] - first_vertex);
+    const Eigen::Vector3i corners = model_->all_triangles()[vis.triangle(pixel)].array() - model_->vertex_offset(part);
+    const Eigen::Vector2f angle = vis.Interpolate(pixel, angles, corners);
     const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], angle[0]) - angle[1]);
     const float above_lower = std::max(0.0f, angle[1] - Cubic(in.lower_lid[eye], angle[0]));
     const float occlusion = Occlusion(below_upper, in.shading.upper_lid_occlusion, in.shading.occlusion_width_rad) *
@@ -496,10 +493,8 @@ void Renderer::ExactJacobian(const Parameters& phi, const Camera& camera, const 
     if (any_direction) {
       // The Lambertian factor is interpolated from the vertices' as in SurfaceAt.
       const int pixel = buffers.foreground[i];
-      const Eigen::Vector3i& t = model_->all_triangles()[vis.triangle(pixel)];
-      const float b1 = vis.b1(pixel), b2 = vis.b2(pixel);
-      const Eigen::Vector2f lambert = (1.0f - b1 - b2) * lambert_derivatives.col(t[0]) +
-                                      b1 * lambert_derivatives.col(t[1]) + b2 * lambert_derivatives.col(t[2]);
+      const Eigen::Vector2f lambert =
+          vis.Interpolate(pixel, lambert_derivatives, model_->all_triangles()[vis.triangle(pixel)]);
       for (int c = 0; c < 3; ++c) {
         const float per_lambert = s.albedo[c] * in.light_colour[c];
         set(i, c, kDirection, per_lambert * lambert[0]);
@@ -537,9 +532,8 @@ cv::Mat Renderer::InterpolateAttribute(const RenderBuffers& buffers, const EyeRe
     const Eigen::MatrixXf& values = attributes[part];
     if (values.size() == 0) continue;
     const Eigen::Vector3i t = model.all_triangles()[vis.triangle(pixel)].array() - model.vertex_offset(part);
-    const float b1 = vis.b1(pixel), b2 = vis.b2(pixel), b0 = 1.0f - b1 - b2;
-    float* out = data + static_cast<std::size_t>(pixel) * channels;
-    for (int c = 0; c < channels; ++c) out[c] = b0 * values(c, t[0]) + b1 * values(c, t[1]) + b2 * values(c, t[2]);
+    Eigen::Map<Eigen::VectorXf>(data + static_cast<std::size_t>(pixel) * channels, channels) =
+        vis.Interpolate(pixel, values, t);
   }
   return field;
 }
