@@ -344,7 +344,7 @@ inline Renderer::PixelShading Renderer::ShadeSurface(const ShadingInputs& in, in
     // angular frame (azimuth, elevation).
     const int eye = EyeOfPart(part);
     const Eigen::Matrix2Xf& angles = model_->eyeball_angles();
-    const Eigen::Vector3i corners = model_->all_triangles()[vis.triangle(pixel)].array() - model_->vertex_offset(part);
+    const Eigen::Vector3i& corners = model_->triangles(part)[vis.triangle(pixel) - model_->triangle_offset(part)];
     const Eigen::Vector2f angle = vis.Interpolate(pixel, angles, corners);
     const float below_upper = std::max(0.0f, Cubic(in.upper_lid[eye], angle[0]) - angle[1]);
     const float above_lower = std::max(0.0f, angle[1] - Cubic(in.lower_lid[eye], angle[0]));
@@ -531,9 +531,9 @@ cv::Mat Renderer::InterpolateAttribute(const RenderBuffers& buffers, const EyeRe
     const int part = buffers.PartAt(pixel);
     const Eigen::MatrixXf& values = attributes[part];
     if (values.size() == 0) continue;
-    const Eigen::Vector3i t = model.all_triangles()[vis.triangle(pixel)].array() - model.vertex_offset(part);
+    const Eigen::Vector3i& corners = model.triangles(part)[vis.triangle(pixel) - model.triangle_offset(part)];
     Eigen::Map<Eigen::VectorXf>(data + static_cast<std::size_t>(pixel) * channels, channels) =
-        vis.Interpolate(pixel, values, t);
+        vis.Interpolate(pixel, values, corners);
   }
   return field;
 }

@@ -7,7 +7,7 @@ namespace {
 
 // Against the same sums in double, for column counts around the tile size
 // and row ranges (unaligned starts, counts that do not fill the last vector):
-// the lower triangle within float rounding, the upper left untouched.
+// the lower triangle within float rounding, the upper triangle untouched.
 TEST(GramMatrixTest, AddsTheLowerTriangleOfEveryPairsDotProduct) {
   for (int n : {1, 2, 3, 4, 7, 20}) {
     const Eigen::MatrixXf x = Eigen::MatrixXf::Random(1003, n);
