@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include "gazedirector/io/obj_reader.h"
-#include "gazedirector/model/subdivision.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
@@ -48,24 +47,6 @@ TEST(ShapeModelTest, ModesMoveVerticesByTheirStandardDeviation) {
   model.Evaluate(beta.data(), moved);
   // The first mode's deviation is 32.85 mm over all 687 coordinates (unit-norm component).
   EXPECT_NEAR((moved - mean).norm(), 32.85, 0.1);
-}
-
-TEST(SubdivisionTest, ReproducesTheAssetsSubdividedRestShape) {
-  const Subdivision subdivision = Subdivision::Load(EyeModelDir() / "subdivision", "eye_region", 229);
-  EXPECT_EQ(subdivision.num_vertices(), 872);
-  EXPECT_EQ(subdivision.triangles().size(), 1656u);
-  const Eigen::Matrix3Xd rest = PositionsMm(ReadObj(EyeModelDir() / "mesh" / "eye_region.obj"));
-  Eigen::Matrix3Xd subdivided;
-  subdivision.Apply(rest, subdivided);
-  const auto reference = ReadNumberTable(EyeModelDir() / "subdivision" / "new_verts_eye_region.txt");
-  ASSERT_EQ(reference.size(), 872u);
-  double total = 0;
-  for (int i = 0; i < 872; ++i) {
-    // Stored as (-x, -z, y) in metres.
-    const Eigen::Vector3d expected(-1000 * reference[i][0], 1000 * reference[i][2], -1000 * reference[i][1]);
-    total += (subdivided.col(i) - expected).norm();
-  }
-  EXPECT_LT(total / 872, 0.05) << "mean distance in mm";
 }
 
 }  // namespace
