@@ -2,6 +2,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +18,7 @@ namespace gazedirector {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::CliPath;
 using testing::DataPath;
 using testing::NoPartialFiles;
 using testing::Quote;
@@ -495,6 +498,36 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   ASSERT_NE(warned, std::string::npos) << output;
   EXPECT_EQ(output.find("beyond the eyes' reach", warned + warning.size()), std::string::npos) << output;
   EXPECT_TRUE(NoPartialFiles(dir));
+}
+
+
+// Ctrl-C during long work: the command stops with exit code 130 and one line,
+// and none of its outputs is left, whole or partial. The signal is sent once
+// the command reports its first tenth of the video's frames, so that it
+// arrives in the middle of the work rather than before the handlers are set.
+TEST(CliGazeTest, AnInterruptedVideoLeavesNoOutputs) {
+  const std::string video = Quote(DataPath("video/d3.mp4"));
+  const struct {
+    std::string name, arguments;
+  } commands[] = {
+      {"track", "track " + video + " -o fits.jsonl --csv gaze.csv --overlay overlay.mp4"},
+      {"redirect", "redirect " + video + " -o out.mp4 --side-by-side"},
+  };
+  for (const auto& command : commands) {
+    const fs::path dir = ScratchDir("cli_interrupted_" + command.name);
+    const std::string script = fmt::format(
+        "cd {} && ({} {} > log 2>&1 & pid=$!; "
+        "for i in $(seq 1 600); do grep -q ' frames (' log && break; sleep 0.1; done; "
+        "kill -INT $pid; wait $pid; echo \"exit $?\"; cat log; rm log)",
+        Quote(dir), Quote(CliPath()), command.arguments);
+    std::string output;
+    ASSERT_EQ(RunCommand(script, &output), 0) << output;
+    EXPECT_NE(output.find("exit 130"), std::string::npos) << command.name << ": " << output;
+    EXPECT_NE(output.find("gazedirector: error: interrupted; partial outputs removed"), std::string::npos) << output;
+    std::vector<std::string> left;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) left.push_back(entry.path().filename().string());
+    EXPECT_TRUE(left.empty()) << command.name << " left " << fmt::format("{}", fmt::join(left, ", "));
+  }
 }
 
 }  // namespace
