@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "gazedirector/util/error.h"
 
@@ -13,7 +14,7 @@ namespace gazedirector {
 namespace {
 
 // A 1-based OBJ index as 0-based; none unless the text is a whole number.
-std::optional<int> ObjIndex(const std::string& text) {
+std::optional<int> ObjIndex(std::string_view text) {
   int index = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), index);
   if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
@@ -25,6 +26,12 @@ std::optional<int> ObjIndex(const std::string& text) {
 }
 
 }  // namespace
+
+Eigen::Matrix3Xd ObjMesh::PositionsMm() const {
+  Eigen::Matrix3Xd mm(3, static_cast<Eigen::Index>(positions.size()));
+  for (std::size_t i = 0; i < positions.size(); ++i) mm.col(static_cast<Eigen::Index>(i)) = 1000.0 * positions[i];
+  return mm;
+}
 
 ObjMesh ReadObj(const std::filesystem::path& path) {
   std::ifstream stream(path);
@@ -49,11 +56,15 @@ ObjMesh ReadObj(const std::filesystem::path& path) {
       std::vector<int> corners;
       std::string corner;
       while (fields >> corner) {
-        const auto slash = corner.find('/');
-        const std::optional<int> vertex = ObjIndex(corner.substr(0, slash));
+        // vertex, vertex/uv, vertex/uv/normal or vertex//normal
+        const std::string_view text = corner;
+        const auto slash = text.find('/');
+        const std::optional<int> vertex = ObjIndex(text.substr(0, slash));
         if (!vertex) Malformed(path, line_number);
-        if (slash != std::string::npos && slash + 1 < corner.size() && corner[slash + 1] != '/') {
-          const std::optional<int> uv = ObjIndex(corner.substr(slash + 1, corner.find('/', slash + 1) - slash - 1));
+        const std::string_view after = slash == std::string_view::npos ? std::string_view() : text.substr(slash + 1);
+        const std::string_view uv_text = after.substr(0, after.find('/'));
+        if (!uv_text.empty()) {
+          const std::optional<int> uv = ObjIndex(uv_text);
           if (!uv) Malformed(path, line_number);
           if (*uv != *vertex) Fail(ExitCode::kAssets, "{}:{}: uv index differs from vertex index", path.string(), line_number);
         }

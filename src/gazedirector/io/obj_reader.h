@@ -12,6 +12,10 @@ struct ObjMesh {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector2d> uvs;  // empty when the file has none
   std::vector<Eigen::Vector3i> triangles;
+
+  // The positions as columns in millimetres, the model's unit (the assets'
+  // meshes are in metres).
+  Eigen::Matrix3Xd PositionsMm() const;
 };
 
 // Reads v / vt / f records (triangles only; a face's uv index must equal its

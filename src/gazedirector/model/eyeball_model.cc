@@ -142,11 +142,10 @@ EyeballModel EyeballModel::Load(const std::filesystem::path& obj) {
   if (mesh.uvs.empty() || mesh.positions.size() < 200) Fail(ExitCode::kAssets, "{}: not the eyeball mesh", obj.string());
   EyeballModel model;
   const int n = static_cast<int>(mesh.positions.size());
-  model.positions_.resize(3, n);
+  model.positions_ = mesh.PositionsMm();
   model.uvs_.resize(2, n);
   model.angles_.resize(2, n);
   for (int i = 0; i < n; ++i) {
-    model.positions_.col(i) = 1000.0 * mesh.positions[i];
     model.uvs_.col(i) = mesh.uvs[i];
     model.angles_.col(i) = AnglesOf(model.positions_.col(i).normalized());
   }

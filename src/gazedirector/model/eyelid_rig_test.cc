@@ -21,9 +21,9 @@ using topology::kOuterCornerColumn;
 // centre at the origin, -y ahead, z up, +x toward the outer corner.
 Eigen::Matrix3Xd MeanRegion() { return testing::SharedModel()->shape_model().mean(); }
 
+// The left eye's gaze in its model frame, as EyeRegionModel::Pose hands it to the rig.
 Eigen::Vector3d Looking(double pitch_deg, double yaw_deg = 0) {
-  const double pitch = DegToRad(pitch_deg), yaw = DegToRad(yaw_deg);
-  return Eigen::Vector3d(std::sin(yaw) * std::cos(pitch), -std::cos(yaw) * std::cos(pitch), std::sin(pitch));
+  return EyeRegionModel::ModelToHead(kLeftEye).transpose() * EyeRegionModel::GazeInHead(pitch_deg, yaw_deg);
 }
 
 Eigen::Matrix3Xd Rigged(double lid_pitch_deg, double closure_deg, const Eigen::Vector3d& gaze) {
@@ -50,7 +50,9 @@ TEST(EyelidRigTest, TheEyeballIsTheCorneaAlongTheGazeAndTheScleraElsewhere) {
       EXPECT_LE(radius, previous + 1e-12) << degrees << " degrees off the gaze";
       EXPECT_GT(radius, previous - 0.1) << degrees << " degrees off the gaze: no step";
       EXPECT_GE(radius, topology::kScleraRadiusMm);
-      if (degrees >= 40) EXPECT_DOUBLE_EQ(radius, topology::kScleraRadiusMm);
+      if (degrees >= 40) {
+        EXPECT_DOUBLE_EQ(radius, topology::kScleraRadiusMm);
+      }
       previous = radius;
     }
   }

@@ -12,17 +12,11 @@ namespace fs = std::filesystem;
 
 fs::path EyeModelDir() { return testing::TestAssets().eye_model(); }
 
-Eigen::Matrix3Xd PositionsMm(const ObjMesh& mesh) {
-  Eigen::Matrix3Xd positions(3, mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) positions.col(static_cast<Eigen::Index>(i)) = 1000.0 * mesh.positions[i];
-  return positions;
-}
-
 TEST(ShapeModelTest, ReconstructsEveryRegisteredSubjectToAMillimetre) {
   const ShapeModel model = ShapeModel::Load(EyeModelDir() / "shape", 16);
   int subjects = 0;
   for (const auto& entry : fs::directory_iterator(EyeModelDir() / "mesh" / "registered_subjects")) {
-    const Eigen::Matrix3Xd subject = PositionsMm(ReadObj(entry.path()));
+    const Eigen::Matrix3Xd subject = ReadObj(entry.path()).PositionsMm();
     const Eigen::VectorXd beta = model.Project(subject);
     Eigen::Matrix3Xd reconstructed;
     model.Evaluate(beta.data(), reconstructed);

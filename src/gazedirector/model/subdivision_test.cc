@@ -27,9 +27,7 @@ TEST(SubdivisionTest, ReproducesTheAssetsSubdividedRestShape) {
   const Subdivision subdivision = EyeRegionSubdivision();
   EXPECT_EQ(subdivision.num_vertices(), 872);
   EXPECT_EQ(subdivision.triangles().size(), 1656u);
-  const ObjMesh mesh = RestMesh();
-  Eigen::Matrix3Xd rest(3, mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) rest.col(static_cast<Eigen::Index>(i)) = 1000.0 * mesh.positions[i];
+  const Eigen::Matrix3Xd rest = RestMesh().PositionsMm();
   Eigen::Matrix3Xd subdivided;
   subdivision.Apply(rest, subdivided);
   const auto reference = ReadNumberTable(SubdivisionDir() / "new_verts_eye_region.txt");
@@ -51,12 +49,11 @@ TEST(SubdivisionTest, AppliesTheSameStencilsToEveryRowCountAndPrecision) {
   const auto count = static_cast<Eigen::Index>(mesh.uvs.size());
   Eigen::Matrix2Xd uvs(2, count);
   Eigen::Matrix3Xd padded = Eigen::Matrix3Xd::Zero(3, count);
-  Eigen::Matrix3Xf single(3, count);
   for (Eigen::Index i = 0; i < count; ++i) {
     uvs.col(i) = mesh.uvs[i];
     padded.col(i).head<2>() = mesh.uvs[i];
-    single.col(i) = (1000.0 * mesh.positions[i]).cast<float>();
   }
+  const Eigen::Matrix3Xf single = mesh.PositionsMm().cast<float>();
   Eigen::Matrix2Xd fine_uvs;
   Eigen::Matrix3Xd fine_padded;
   subdivision.Apply(uvs, fine_uvs);
