@@ -26,6 +26,22 @@ std::string TickLabel(double value, double step) {
   return fmt::format("{:.{}f}", value, decimals);
 }
 
+// The stretches of two or more consecutive points whose x, a and b are all
+// finite: a missing value breaks a line and its band.
+std::vector<std::vector<std::size_t>> FiniteRuns(const std::vector<double>& x, const std::vector<double>& a,
+                                                 const std::vector<double>& b) {
+  std::vector<std::vector<std::size_t>> runs(1);
+  for (std::size_t i = 0; i < std::min({x.size(), a.size(), b.size()}); ++i) {
+    if (std::isfinite(x[i]) && std::isfinite(a[i]) && std::isfinite(b[i])) {
+      runs.back().push_back(i);
+    } else if (!runs.back().empty()) {
+      runs.emplace_back();
+    }
+  }
+  std::erase_if(runs, [](const std::vector<std::size_t>& run) { return run.size() < 2; });
+  return runs;
+}
+
 }  // namespace
 
 void LinePlot::AddSeries(std::string name, std::vector<double> x, std::vector<double> y, cv::Scalar colour,
@@ -48,8 +64,13 @@ cv::Mat LinePlot::Draw(int width, int height) const {
         }
       }
     }
+    // A single x or a flat series gets a range of its own around its value.
     if (!fixed_x_ && xb > xa) x0 = xa, x1 = xb;
-    if (!fixed_y_ && yb > ya) y0 = std::min(0.0, ya), y1 = yb * 1.05;
+    if (!fixed_x_ && xb == xa) x0 = xa - 0.5, x1 = xa + 0.5;
+    if (!fixed_y_ && yb >= ya) {
+      y0 = std::min(0.0, ya);
+      y1 = yb > y0 ? yb + 0.05 * (yb - y0) : y0 + 1;
+    }
   }
   auto to_pixel = [&](double x, double y) {
     return cv::Point2d(area.x + (x - x0) / (x1 - x0) * area.width, area.y + area.height - (y - y0) / (y1 - y0) * area.height);
@@ -72,15 +93,21 @@ cv::Mat LinePlot::Draw(int width, int height) const {
   cv::rectangle(canvas, area, ink, 1);
   for (const Series& s : series_) {
     if (!s.low.empty() && s.low.size() == s.x.size() && s.high.size() == s.x.size()) {
-      std::vector<cv::Point> band;
-      for (std::size_t i = 0; i < s.x.size(); ++i) band.push_back(to_pixel(s.x[i], s.high[i]));
-      for (std::size_t i = s.x.size(); i-- > 0;) band.push_back(to_pixel(s.x[i], s.low[i]));
+      std::vector<std::vector<cv::Point>> bands;
+      for (const auto& run : FiniteRuns(s.x, s.low, s.high)) {
+        std::vector<cv::Point>& band = bands.emplace_back();
+        for (std::size_t i : run) band.push_back(to_pixel(s.x[i], s.high[i]));
+        for (auto i = run.rbegin(); i != run.rend(); ++i) band.push_back(to_pixel(s.x[*i], s.low[*i]));
+      }
       cv::Mat layer = canvas.clone();
-      cv::fillPoly(layer, std::vector<std::vector<cv::Point>>{band}, s.colour, cv::LINE_AA);
+      cv::fillPoly(layer, bands, s.colour, cv::LINE_AA);
       cv::addWeighted(layer, 0.25, canvas, 0.75, 0, canvas);
     }
-    for (std::size_t i = 1; i < s.x.size(); ++i) {
-      cv::line(canvas, to_pixel(s.x[i - 1], s.y[i - 1]), to_pixel(s.x[i], s.y[i]), s.colour, 2, cv::LINE_AA);
+    for (const auto& run : FiniteRuns(s.x, s.y, s.y)) {
+      for (std::size_t k = 1; k < run.size(); ++k) {
+        cv::line(canvas, to_pixel(s.x[run[k - 1]], s.y[run[k - 1]]), to_pixel(s.x[run[k]], s.y[run[k]]), s.colour, 2,
+                 cv::LINE_AA);
+      }
     }
   }
   // The legend in the top right corner, as wide as its longest name, on white.
