@@ -11,6 +11,12 @@ namespace gazedirector {
 // (for interquartile ranges), axes with round ticks, labels and a legend.
 class LinePlot {
  public:
+  struct Series {
+    std::string name;
+    std::vector<double> x, y, low, high;
+    cv::Scalar colour;
+  };
+
   LinePlot(std::string title, std::string x_label, std::string y_label)
       : title_(std::move(title)), x_label_(std::move(x_label)), y_label_(std::move(y_label)) {}
 
@@ -23,11 +29,6 @@ class LinePlot {
   cv::Mat Draw(int width = 640, int height = 420) const;
 
  private:
-  struct Series {
-    std::string name;
-    std::vector<double> x, y, low, high;
-    cv::Scalar colour;
-  };
   std::string title_, x_label_, y_label_;
   std::vector<Series> series_;
   double x_min_ = 0, x_max_ = 1, y_min_ = 0, y_max_ = 1;
