@@ -46,8 +46,10 @@ struct ColumbiaCrop {
 bool ParseColumbiaName(const std::filesystem::path& path, ColumbiaCrop& crop);
 // `dir`, or ../shared/data/columbia-eyes when it is empty.
 std::filesystem::path ColumbiaDirOrDefault(const std::string& dir);
-// Every crop in `dir`, sorted by name.
-std::vector<ColumbiaCrop> ListColumbia(const std::filesystem::path& dir);
+// Every crop in `dir`, sorted by name. Other files are skipped with a warning
+// (and listed in `skipped` when given); folders are not looked into.
+std::vector<ColumbiaCrop> ListColumbia(const std::filesystem::path& dir,
+                                       std::vector<std::filesystem::path>* skipped = nullptr);
 
 // A gaze direction in one frame and its absolute error against the label, degrees.
 struct GazeReading {

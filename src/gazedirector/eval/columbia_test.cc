@@ -36,6 +36,28 @@ TEST(ColumbiaTest, NamesGiveLabelsAndTheirPhoto) {
   EXPECT_FALSE(ParseColumbiaName("d30.jpg", not_one));
 }
 
+// A folder with other files beside the crops: the crops are listed in name
+// order, the other files reported as skipped, a subfolder left alone.
+TEST(ColumbiaTest, ListingSkipsOtherFilesAndSaysWhich) {
+  const std::filesystem::path dir = testing::ScratchDir("columbia_listing");
+  const std::filesystem::path source = testing::DataPath("columbia-eyes");
+  for (const char* name : {"0005_2m_15P_10V_5H_R.jpg", "0005_2m_0P_0V_0H_L.jpg"}) {
+    std::filesystem::copy_file(source / name, dir / name);
+  }
+  std::filesystem::copy_file(source / "0005_2m_0P_0V_0H_R.jpg", dir / "photo.jpg");
+  std::filesystem::copy_file(source / "0005_2m_0P_0V_0H_R.jpg", dir / "0005_2m_0P_0V_0H_R.JPG");
+  std::filesystem::create_directory(dir / "0005_2m_0P_0V_0H_R.jpg");  // a folder named like a crop
+  std::filesystem::create_directory(dir / "more");
+  std::vector<std::filesystem::path> skipped;
+  const std::vector<ColumbiaCrop> crops = ListColumbia(dir, &skipped);
+  ASSERT_EQ(crops.size(), 2u);
+  EXPECT_EQ(crops[0].path.filename(), "0005_2m_0P_0V_0H_L.jpg");
+  EXPECT_EQ(crops[1].path.filename(), "0005_2m_15P_10V_5H_R.jpg");
+  ASSERT_EQ(skipped.size(), 2u);
+  EXPECT_EQ(skipped[0].filename(), "0005_2m_0P_0V_0H_R.JPG");
+  EXPECT_EQ(skipped[1].filename(), "photo.jpg");
+}
+
 TEST(ColumbiaTest, LabelsAreRelativeToTheCameraAndTurnedByTheHeadInItsFrame) {
   // At head pose 0 both frames agree.
   const ColumbiaCrop frontal = Crop("0001_2m_0P_10V_-5H_L.jpg");
