@@ -59,7 +59,9 @@ void FitRanges(const std::vector<LinePlot::Series>& series, bool fixed_x, bool f
   if (fixed_x && fixed_y) return;
   double xa = std::numeric_limits<double>::max(), xb = -xa, ya = xa, yb = -xa;
   for (const LinePlot::Series& s : series) {
-    for (double v : s.x) xa = std::min(xa, v), xb = std::max(xb, v);
+    for (double v : s.x) {
+      if (std::isfinite(v)) xa = std::min(xa, v), xb = std::max(xb, v);
+    }
     for (const auto* values : {&s.y, &s.low, &s.high}) {
       for (double v : *values) {
         if (std::isfinite(v)) ya = std::min(ya, v), yb = std::max(yb, v);
