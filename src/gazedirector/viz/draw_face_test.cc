@@ -10,18 +10,15 @@ namespace {
 
 using testing::DetectStill;
 
-// Pixels of the drawing in colours that the photo's skin does not have:
-// the landmark contours' green and the head's x axis in red.
-cv::Mat GreenPixels(const cv::Mat& drawing) {
+// Pixels of the drawing within a colour range (BGR).
+cv::Mat PixelsBetween(const cv::Mat& drawing, const cv::Scalar& low, const cv::Scalar& high) {
   cv::Mat mask;
-  cv::inRange(drawing, cv::Scalar(0, 150, 0), cv::Scalar(130, 255, 130), mask);
+  cv::inRange(drawing, low, high, mask);
   return mask;
 }
-cv::Mat RedPixels(const cv::Mat& drawing) {
-  cv::Mat mask;
-  cv::inRange(drawing, cv::Scalar(0, 0, 180), cv::Scalar(90, 90, 255), mask);
-  return mask;
-}
+// Colours that the photo's skin does not have: the landmark contours' green
+// and the head's x axis in red.
+const cv::Scalar kGreenLow(0, 150, 0), kGreenHigh(130, 255, 130), kRedLow(0, 0, 180), kRedHigh(90, 90, 255);
 
 double DistanceToNearest(const cv::Point2d& p, const Landmarks68& landmarks) {
   double nearest = 1e9;
@@ -38,7 +35,8 @@ TEST(DrawFaceTest, DrawsTheLandmarksAndTheHeadsAxesWhereTheFaceIs) {
   cv::Mat drawing = still.image.clone();
   DrawFace(drawing, face, still.camera);
 
-  const cv::Mat green = GreenPixels(drawing) & ~GreenPixels(still.image);
+  const cv::Mat green =
+      PixelsBetween(drawing, kGreenLow, kGreenHigh) & ~PixelsBetween(still.image, kGreenLow, kGreenHigh);
   const double eyes_apart = face.InterocularDistance();
   int green_count = 0, green_far = 0;
   for (int y = 0; y < green.rows; ++y) {
@@ -53,7 +51,7 @@ TEST(DrawFaceTest, DrawsTheLandmarksAndTheHeadsAxesWhereTheFaceIs) {
   EXPECT_GT(green_count, 4 * eyes_apart);
   EXPECT_LT(green_far, 0.01 * green_count);
 
-  const cv::Mat red = RedPixels(drawing) & ~RedPixels(still.image);
+  const cv::Mat red = PixelsBetween(drawing, kRedLow, kRedHigh) & ~PixelsBetween(still.image, kRedLow, kRedHigh);
   std::vector<cv::Point> red_points;
   cv::findNonZero(red, red_points);
   ASSERT_FALSE(red_points.empty());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 
 #include <fmt/format.h>
@@ -26,13 +27,14 @@ std::string TickLabel(double value, double step) {
   return fmt::format("{:.{}f}", value, decimals);
 }
 
-// The stretches of two or more consecutive points whose x, a and b are all
-// finite: a missing value breaks a line and its band.
-std::vector<std::vector<std::size_t>> FiniteRuns(const std::vector<double>& x, const std::vector<double>& a,
-                                                 const std::vector<double>& b) {
+// The stretches of two or more consecutive indices at which every one of
+// `columns` is finite: a missing value breaks a line and its band.
+std::vector<std::vector<std::size_t>> FiniteRuns(std::initializer_list<const std::vector<double>*> columns) {
+  std::size_t length = std::numeric_limits<std::size_t>::max();
+  for (const auto* column : columns) length = std::min(length, column->size());
   std::vector<std::vector<std::size_t>> runs(1);
-  for (std::size_t i = 0; i < std::min({x.size(), a.size(), b.size()}); ++i) {
-    if (std::isfinite(x[i]) && std::isfinite(a[i]) && std::isfinite(b[i])) {
+  for (std::size_t i = 0; i < length; ++i) {
+    if (std::all_of(columns.begin(), columns.end(), [i](const auto* column) { return std::isfinite((*column)[i]); })) {
       runs.back().push_back(i);
     } else if (!runs.back().empty()) {
       runs.emplace_back();
@@ -100,7 +102,7 @@ void DrawGrid(cv::Mat& canvas, const PlotFrame& frame) {
 void DrawSeries(cv::Mat& canvas, const PlotFrame& frame, const LinePlot::Series& s) {
   if (!s.low.empty() && s.low.size() == s.x.size() && s.high.size() == s.x.size()) {
     std::vector<std::vector<cv::Point>> bands;
-    for (const auto& run : FiniteRuns(s.x, s.low, s.high)) {
+    for (const auto& run : FiniteRuns({&s.x, &s.low, &s.high})) {
       std::vector<cv::Point>& band = bands.emplace_back();
       for (std::size_t i : run) band.push_back(frame.ToPixel(s.x[i], s.high[i]));
       for (auto i = run.rbegin(); i != run.rend(); ++i) band.push_back(frame.ToPixel(s.x[*i], s.low[*i]));
@@ -109,7 +111,7 @@ void DrawSeries(cv::Mat& canvas, const PlotFrame& frame, const LinePlot::Series&
     cv::fillPoly(layer, bands, s.colour, cv::LINE_AA);
     cv::addWeighted(layer, 0.25, canvas, 0.75, 0, canvas);
   }
-  for (const auto& run : FiniteRuns(s.x, s.y, s.y)) {
+  for (const auto& run : FiniteRuns({&s.x, &s.y})) {
     for (std::size_t k = 1; k < run.size(); ++k) {
       cv::line(canvas, frame.ToPixel(s.x[run[k - 1]], s.y[run[k - 1]]), frame.ToPixel(s.x[run[k]], s.y[run[k]]),
                s.colour, 2, cv::LINE_AA);
