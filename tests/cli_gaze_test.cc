@@ -276,6 +276,36 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 
+// Evaluating a folder that is also the appearance prior's training folder
+// lists it once: a stray file is warned about once, and the prior is trained
+// on every crop there, the evaluated subject's own left out.
+TEST(CliGazeTest, ColumbiaTrainedOnTheEvaluatedFolderListsItOnce) {
+  const fs::path dir = ScratchDir("cli_columbia_same_folder");
+  const fs::path crops = dir / "crops";
+  fs::create_directories(crops);
+  for (const auto& entry : fs::directory_iterator(DataPath("columbia-eyes"))) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("0013_2m_0P_", 0) == 0 || name.rfind("0014_2m_0P_", 0) == 0) {
+      fs::create_symlink(entry.path(), crops / name);
+    }
+  }
+  std::ofstream(crops / "notes.txt") << "not a crop\n";
+  std::string output;
+  ASSERT_EQ(RunCli("eval columbia " + Quote(crops) + " --appearance-training " + Quote(crops) +
+                       " --subjects 0013 --every 10 --json --plot " + Quote(dir / "curves.png"),
+                   &output),
+            0)
+      << output;
+  const std::string warning = "skipped 1 file(s) not named like";
+  const std::size_t first = output.find(warning);
+  ASSERT_NE(first, std::string::npos) << output;
+  EXPECT_EQ(output.find(warning, first + 1), std::string::npos) << output;
+  const nlohmann::json result = nlohmann::json::parse(output.substr(output.find('{')));
+  EXPECT_EQ(result["photos"].get<int>(), 3);  // photos 1, 11 and 21 of 0013's 21
+  EXPECT_NE(result["appearance_prior"].get<std::string>().find("trained on 84 crops of 2 subjects"), std::string::npos)
+      << result["appearance_prior"];
+}
+
 // A fit whose iris sits off the photo's would show a broken iris when
 // redirected: the face is left as it was, unless the check is turned off.
 // s42.jpg's fit, its gaze edited 25 degrees aside (until session 63 her own

@@ -110,10 +110,10 @@ std::filesystem::path ColumbiaDir(const EvalOptions& options) {
 
 // The crops of the chosen subjects (less the excluded ones) and head poses
 // (all when none are chosen), from every `every`th photo (both eyes of a photo stay together).
-std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::filesystem::path& dir) {
+std::vector<ColumbiaCrop> SelectCrops(const EvalOptions& options, const std::filesystem::path& dir,
+                                      const std::vector<ColumbiaCrop>& all) {
   auto listed = [](const auto& list, const auto& value) { return std::find(list.begin(), list.end(), value) != list.end(); };
   auto chosen = [&](const auto& list, const auto& value) { return list.empty() || listed(list, value); };
-  const std::vector<ColumbiaCrop> all = ListColumbia(dir);
   // A subject named but absent is most likely a typo; say so rather than quietly evaluate something else.
   for (const std::vector<std::string>* named : {&options.subjects, &options.excluded_subjects}) {
     for (const std::string& subject : *named) {
@@ -151,12 +151,20 @@ struct AppearanceModels {
   std::string source;
 };
 
-// The appearance gaze models for the crops' subjects. Trained here on the
+// The crops in the training folder: the run's own listing when it is the
+// evaluated folder (the default), so that folder is listed, and warned about, once.
+std::vector<ColumbiaCrop> TrainingCrops(const std::filesystem::path& training, const ColumbiaRun& run) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(training, run.dir, ec)) return run.listed;
+  return ListColumbia(training);
+}
+
+// The appearance gaze models for the run's subjects. Trained here on the
 // training folder's crops (AddColumbiaCrops), each subject's own left out;
 // without that folder, the model the build trained, which must not have seen them.
-AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vector<ColumbiaCrop>& crops) {
+AppearanceModels AppearanceModelsFor(const EvalOptions& options, const ColumbiaRun& run) {
   std::vector<std::string> subjects;
-  for (const ColumbiaCrop& crop : crops) {
+  for (const ColumbiaCrop& crop : run.crops) {
     if (std::find(subjects.begin(), subjects.end(), crop.subject) == subjects.end()) subjects.push_back(crop.subject);
   }
   const std::filesystem::path training = ColumbiaDirOrDefault(options.appearance_training);
@@ -165,7 +173,7 @@ AppearanceModels AppearanceModelsFor(const EvalOptions& options, const std::vect
   if (std::filesystem::is_directory(training, ec)) {
     Timer timer;
     AppearanceGazeTrainer trainer;
-    const std::vector<ColumbiaCrop> pool = ListColumbia(training);
+    const std::vector<ColumbiaCrop> pool = TrainingCrops(training, run);
     AddColumbiaCrops(pool, trainer);
     models.by_subject = LeaveSubjectOut(trainer, subjects);
     const long seen = std::count_if(subjects.begin(), subjects.end(),
@@ -351,7 +359,8 @@ ColumbiaRun PrepareColumbiaRun(const EvalOptions& options) {
   if (options.json) spdlog::set_level(spdlog::level::warn);
   ColumbiaRun run;
   run.dir = ColumbiaDir(options);
-  run.crops = SelectCrops(options, run.dir);
+  run.listed = ListColumbia(run.dir);
+  run.crops = SelectCrops(options, run.dir, run.listed);
   run.model = EyeRegionModel::Load(Assets::Resolve(options.common.assets));
   run.fit_options = ColumbiaFitOptions(options);
   return run;
@@ -360,9 +369,10 @@ ColumbiaRun PrepareColumbiaRun(const EvalOptions& options) {
 int RunColumbiaEval(const EvalOptions& options) {
   RequireImageOutput(options.plot, "--plot");
   RequireCsvOutput(options.csv);
-  const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
+  const ColumbiaRun run = PrepareColumbiaRun(options);
+  const auto& [dir, listed, crops, model, fit_options] = run;
   const bool use_appearance = fit_options.weights.UsesAppearance();
-  const AppearanceModels appearance = use_appearance ? AppearanceModelsFor(options, crops) : AppearanceModels{};
+  const AppearanceModels appearance = use_appearance ? AppearanceModelsFor(options, run) : AppearanceModels{};
   Progress progress("columbia", static_cast<long>(crops.size()), "crops", options.common.quiet || options.json);
   Timer timer;
   std::vector<ColumbiaFit> fits =

@@ -46,7 +46,8 @@ struct EvalOptions {
 // What both Columbia evaluations start from.
 struct ColumbiaRun {
   std::filesystem::path dir;
-  std::vector<ColumbiaCrop> crops;
+  std::vector<ColumbiaCrop> listed;  // every crop in dir
+  std::vector<ColumbiaCrop> crops;   // those the filters chose
   std::shared_ptr<const EyeRegionModel> model;
   FitOptions fit_options;
 };

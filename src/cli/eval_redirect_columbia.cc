@@ -81,7 +81,7 @@ int RunRedirectColumbiaEval(const EvalOptions& options) {
   RequireImageOutput(options.cdf_plot, "--plot");
   RequireCsvOutput(options.csv);
   RequireWritableFolder(options.out_dir, "--out-dir");
-  const auto [dir, crops, model, fit_options] = PrepareColumbiaRun(options);
+  const auto [dir, listed, crops, model, fit_options] = PrepareColumbiaRun(options);
   std::unique_ptr<Progress> progress;
   const std::filesystem::path out_dir(options.out_dir);
   Timer timer;
