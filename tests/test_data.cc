@@ -110,6 +110,13 @@ std::string ReadText(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(stream), {});
 }
 
+void WritePrefix(const fs::path& from, const fs::path& to, std::size_t bytes) {
+  std::ifstream in(from, std::ios::binary);
+  std::string data(bytes, '\0');
+  in.read(data.data(), static_cast<std::streamsize>(bytes));
+  std::ofstream(to, std::ios::binary).write(data.data(), static_cast<std::streamsize>(bytes));
+}
+
 fs::path ScratchDir(const std::string& name) {
   static const fs::path root = fs::temp_directory_path() / ("gazedirector-tests-" + std::to_string(::getpid()));
   static const struct Cleanup {

@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
 #include "gazedirector/face/face_tracker.h"
@@ -13,6 +14,7 @@
 #include "gazedirector/fit/fitter.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/util/error.h"
 
 namespace gazedirector::testing {
 
@@ -62,6 +64,21 @@ TurnedPhoto TurnPhoto(const cv::Mat& image, double degrees);
 
 // A file's bytes.
 std::string ReadText(const std::filesystem::path& path);
+// Writes the first `bytes` bytes of `from` to `to`: a file cut short.
+void WritePrefix(const std::filesystem::path& from, const std::filesystem::path& to, std::size_t bytes);
+
+// The exit code of the error `action` fails with (kOk when it does not), and
+// a test failure when that error's message is more than one line.
+template <typename Action>
+ExitCode ExitCodeOf(Action&& action) {
+  try {
+    action();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "messages are one line: " << e.what();
+    return e.code();
+  }
+  return ExitCode::kOk;
+}
 
 // A fresh folder under the build tree's temp dir, removed with the process.
 std::filesystem::path ScratchDir(const std::string& name);

@@ -3,17 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "gazedirector/util/error.h"
+#include "tests/test_data.h"
 
 namespace gazedirector {
 namespace {
 
 ExitCode CodeOf(FitOptions& options, const std::string& assignment) {
-  try {
-    SetFitOption(options, assignment);
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return ExitCode::kOk;
+  return testing::ExitCodeOf([&] { SetFitOption(options, assignment); });
 }
 
 TEST(FitOptionsTest, NumbersSetTheirOption) {
