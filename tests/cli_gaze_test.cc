@@ -393,13 +393,16 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   }
   EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/s39.jpg")) + " -o " + Quote(dir / "cat.jpg"), &output), 3) << output;
   EXPECT_NE(output.find("no face"), std::string::npos) << output;
-  // So does a video without a face in any frame (it was copied unchanged with exit code 0), and writes nothing.
+  // So does a video without a face in any frame (it was copied unchanged with exit code 0), and writes
+  // nothing: not the video, nor the fits kept for a re-run (they held only empty frames).
   ASSERT_EQ(RunCommand("ffmpeg -v error -y -loop 1 -i " + Quote(DataPath("images/s39.jpg")) +
                        " -t 0.4 -r 10 -vf scale=540:720 -pix_fmt yuv420p " + Quote(dir / "cat.mp4")),
             0);
   EXPECT_EQ(RunCli("redirect " + Quote(dir / "cat.mp4") + " -o " + Quote(dir / "cat_out.mp4"), &output), 3) << output;
   EXPECT_NE(output.find("no face found in any of the 4 frames"), std::string::npos) << output;
   EXPECT_FALSE(std::filesystem::exists(dir / "cat_out.mp4"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "cat_out.mp4.fits.jsonl"));
+  EXPECT_TRUE(NoPartialFiles(dir));
   // Another photo's fits would draw its eyes in the wrong places.
   ASSERT_EQ(RunCli("track " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "d30.jsonl"), &output), 0) << output;
   EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d19.jpg")) + " --fits " + Quote(dir / "d30.jsonl") + " -o " +

@@ -227,8 +227,13 @@ void AddFitsWithIrisOff(const RedirectCommandOptions& options, const cv::Mat& fr
   }
 }
 
+[[noreturn]] void FailNoFaceInVideo(std::size_t frames, const std::string& input) {
+  Fail(ExitCode::kNoFace, "no face found in any of the {} frames of {}; nothing to redirect", frames, input);
+}
+
 // Tracks the video into `fits_path` and returns what it wrote; finds the
 // fits with an iris off on the way (`iris_off`), while each frame is at hand.
+// A video without a face fails before its fits are kept: they hold nothing.
 FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const Camera& camera,
                     const std::filesystem::path& fits_path, std::set<FitKey>& iris_off) {
   const std::vector<std::filesystem::path> inputs = {options.input};
@@ -238,9 +243,13 @@ FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& s
   TextWriter json(fits_path, inputs);
   Progress progress("track", reader.info().frame_count, "frames", options.common.quiet);
   cv::Mat frame;
+  std::size_t frames = 0;
+  bool any_face = false;
   while (reader.Read(frame)) {
+    ++frames;
     ThrowIfInterrupted();
     const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    any_face = any_face || !fits.empty();
     std::vector<StoredFit> stored;
     for (const FaceFit& fit : fits) stored.push_back(StoredFit::Of(fit));
     AddFitsWithIrisOff(options, frame, reader.frame_index(), stored, camera, renderer, iris_off);
@@ -251,6 +260,7 @@ FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& s
     progress.Update(reader.frame_index() + 1);
   }
   progress.Finish();
+  if (!any_face) FailNoFaceInVideo(frames, options.input);
   json.Finish();
   return ReadFits(fits_path);
 }
@@ -361,10 +371,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   RequireFitsOfSize(fits, info.width, info.height);
   const bool any_face = std::any_of(fits.frames.begin(), fits.frames.end(),
                                     [](const auto& frame) { return !frame.second.faces.empty(); });
-  if (!any_face) {
-    Fail(ExitCode::kNoFace, "no face found in any of the {} frames of {}; nothing to redirect", fits.frames.size(),
-         options.input);
-  }
+  if (!any_face) FailNoFaceInVideo(fits.frames.size(), options.input);
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
   if (!iris_off) iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
   const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, *iris_off);
