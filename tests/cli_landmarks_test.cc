@@ -1,4 +1,5 @@
 // End-to-end tests of `gazedirector landmarks` on real photos and videos.
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -134,6 +135,34 @@ TEST(CliLandmarksTest, AnUnknownCommandIsNamedWithTheKnownOnes) {
             std::string::npos)
       << output;
   EXPECT_EQ(RunCli("--version", &output), 0) << output;
+}
+
+// Usage errors are one line, as every other error, and say where the
+// command's help is (CLI11 printed its message and a second line).
+TEST(CliLandmarksTest, UsageErrorsAreOneLineNamingTheCommandsHelp) {
+  const struct {
+    std::string arguments, message;
+  } cases[] = {
+      {"landmarks " + Quote(DataPath("images/s42.jpg")),
+       "gazedirector: error: --output is required (see gazedirector landmarks --help)\n"},
+      {"track " + Quote(DataPath("images/s42.jpg")) + " -o fits.json --eye-patch top",
+       "gazedirector: error: --eye-patch: top not in {left,right} (see gazedirector track --help)\n"},
+      {"eval columbia --every 0", "(see gazedirector eval columbia --help)\n"},
+      {"", "gazedirector: error: no command given: one of landmarks, bench, eval, render, track, redirect, "
+           "train-appearance (see gazedirector --help)\n"},
+      {"eval --json", "gazedirector: error: no eval command given: one of landmarks, columbia, redirect-columbia, iris "
+                      "(see gazedirector eval --help)\n"},
+  };
+  for (const auto& c : cases) {
+    std::string output;
+    EXPECT_EQ(RunCli(c.arguments, &output), 2) << c.arguments << "\n" << output;
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+    ASSERT_GE(output.size(), c.message.size()) << output;
+    EXPECT_EQ(output.substr(output.size() - c.message.size()), c.message) << output;
+  }
+  std::string help;
+  EXPECT_EQ(RunCli("track --help", &help), 0) << help;
+  EXPECT_NE(help.find("Usage: gazedirector track [OPTIONS] input"), std::string::npos) << help;
 }
 
 TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {

@@ -17,32 +17,74 @@
 
 namespace {
 
-// A word where a command (or an eval's kind) belongs that names none: CLI11
-// would only say "A subcommand is required". Returns whether it reported one.
-bool ReportUnknownCommand(CLI::App& app, int argc, char** argv) {
+// The command the words of argv name, as far as they name one (the program
+// itself when none); `unknown` gets the first word that names none where a
+// command belongs.
+CLI::App* NamedCommand(CLI::App& app, int argc, char** argv, std::string* unknown = nullptr) {
   CLI::App* current = &app;
   for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
     const std::vector<CLI::App*> commands = current->get_subcommands([](CLI::App*) { return true; });
-    if (commands.empty()) return false;
+    if (commands.empty()) break;
     const auto named = std::find_if(commands.begin(), commands.end(),
                                     [&](CLI::App* command) { return command->get_name() == argv[i]; });
     if (named == commands.end()) {
-      std::vector<std::string> names;
-      for (CLI::App* command : commands) names.push_back(command->get_name());
-      const std::string where = current == &app ? "command" : current->get_name() + " command";
-      fmt::print(stderr, "gazedirector: error: unknown {} '{}' (one of {})\n", where, argv[i], fmt::join(names, ", "));
-      return true;
+      if (unknown != nullptr) *unknown = argv[i];
+      break;
     }
     current = *named;
   }
-  return false;
+  return current;
+}
+
+// "landmarks, bench, ...": the commands `parent` holds.
+std::string CommandNames(CLI::App* parent) {
+  std::vector<std::string> names;
+  for (CLI::App* command : parent->get_subcommands([](CLI::App*) { return true; })) names.push_back(command->get_name());
+  return fmt::format("{}", fmt::join(names, ", "));
+}
+
+// "command" for the program's commands, "eval command" for eval's.
+std::string CommandWord(CLI::App& app, CLI::App* parent) {
+  return parent == &app ? "command" : parent->get_name() + " command";
+}
+
+// A word where a command (or an eval's kind) belongs that names none: CLI11
+// would only say "A subcommand is required". Returns whether it reported one.
+bool ReportUnknownCommand(CLI::App& app, int argc, char** argv) {
+  std::string unknown;
+  CLI::App* current = NamedCommand(app, argc, argv, &unknown);
+  if (unknown.empty()) return false;
+  fmt::print(stderr, "gazedirector: error: unknown {} '{}' (one of {})\n", CommandWord(app, current), unknown,
+             CommandNames(current));
+  return true;
+}
+
+// "gazedirector eval columbia" for the command argv names.
+std::string CommandLine(CLI::App& app, int argc, char** argv) {
+  std::vector<std::string> words;
+  for (CLI::App* command = NamedCommand(app, argc, argv); command != nullptr; command = command->get_parent()) {
+    words.insert(words.begin(), command->get_name());
+  }
+  return fmt::format("{}", fmt::join(words, " "));
+}
+
+// A usage error in one line, as every other error, with where to read more
+// (CLI11 prints its message and "Run with --help for more information.").
+int ReportUsageError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
+  std::string message = error.what();
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  CLI::App* command = NamedCommand(app, argc, argv);
+  if (!command->get_subcommands([](CLI::App*) { return true; }).empty() && command->get_subcommands().empty()) {
+    message = fmt::format("no {} given: one of {}", CommandWord(app, command), CommandNames(command));
+  }
+  fmt::print(stderr, "gazedirector: error: {} (see {} --help)\n", message, CommandLine(app, argc, argv));
+  return static_cast<int>(gazedirector::ExitCode::kUsage);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace gazedirector;
-  spdlog::set_pattern("%^%l%$: %v");
   spdlog::set_default_logger(spdlog::stderr_color_mt("gazedirector"));
   spdlog::set_pattern("%^%l%$: %v");
   cv::setNumThreads(2);
@@ -60,8 +102,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : static_cast<int>(ExitCode::kUsage);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    return ReportUsageError(app, e, argc, argv);
   }
   try {
     for (const cli::Command& command : commands) {
