@@ -74,7 +74,10 @@ int ReportUsageError(CLI::App& app, const CLI::ParseError& error, int argc, char
   std::string message = error.what();
   std::replace(message.begin(), message.end(), '\n', ' ');
   CLI::App* command = NamedCommand(app, argc, argv);
-  if (!command->get_subcommands([](CLI::App*) { return true; }).empty() && command->get_subcommands().empty()) {
+  const bool lacks_command = dynamic_cast<const CLI::RequiredError*>(&error) != nullptr &&
+                             !command->get_subcommands([](CLI::App*) { return true; }).empty() &&
+                             command->get_subcommands().empty();
+  if (lacks_command) {
     message = fmt::format("no {} given: one of {}", CommandWord(app, command), CommandNames(command));
   }
   fmt::print(stderr, "gazedirector: error: {} (see {} --help)\n", message, CommandLine(app, argc, argv));
