@@ -231,11 +231,9 @@ TEST(CliGazeTest, ColumbiaLeavesOutExcludedSubjects) {
   EXPECT_NE(output.find("no such folder"), std::string::npos) << output;
 }
 
-// train-appearance makes a model that track --eye-patch's prior could load,
-// from a folder of labelled crops; a folder without any fails and writes nothing.
-TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
-  const fs::path dir = ScratchDir("cli_train_appearance");
-  const fs::path crops = dir / "crops";
+// Links subjects 0013's and 0014's Columbia crops at head pose 0 into a new
+// folder `crops`; returns how many.
+int LinkFrontalCrops(const fs::path& crops) {
   fs::create_directories(crops);
   int linked = 0;
   for (const auto& entry : fs::directory_iterator(DataPath("columbia-eyes"))) {
@@ -245,7 +243,15 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
       ++linked;
     }
   }
-  ASSERT_EQ(linked, 84);
+  return linked;
+}
+
+// train-appearance makes a model that track --eye-patch's prior could load,
+// from a folder of labelled crops; a folder without any fails and writes nothing.
+TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
+  const fs::path dir = ScratchDir("cli_train_appearance");
+  const fs::path crops = dir / "crops";
+  ASSERT_EQ(LinkFrontalCrops(crops), 84);
   std::string output;
   ASSERT_EQ(RunCli("train-appearance " + Quote(crops) + " -o " + Quote(dir / "gaze.cbor"), &output), 0) << output;
   std::ifstream stream(dir / "gaze.cbor", std::ios::binary);
@@ -282,13 +288,7 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
 TEST(CliGazeTest, ColumbiaTrainedOnTheEvaluatedFolderListsItOnce) {
   const fs::path dir = ScratchDir("cli_columbia_same_folder");
   const fs::path crops = dir / "crops";
-  fs::create_directories(crops);
-  for (const auto& entry : fs::directory_iterator(DataPath("columbia-eyes"))) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind("0013_2m_0P_", 0) == 0 || name.rfind("0014_2m_0P_", 0) == 0) {
-      fs::create_symlink(entry.path(), crops / name);
-    }
-  }
+  ASSERT_EQ(LinkFrontalCrops(crops), 84);
   std::ofstream(crops / "notes.txt") << "not a crop\n";
   std::string output;
   ASSERT_EQ(RunCli("eval columbia " + Quote(crops) + " --appearance-training " + Quote(crops) +

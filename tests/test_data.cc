@@ -111,10 +111,7 @@ std::string ReadText(const fs::path& path) {
 }
 
 void WritePrefix(const fs::path& from, const fs::path& to, std::size_t bytes) {
-  std::ifstream in(from, std::ios::binary);
-  std::string data(bytes, '\0');
-  in.read(data.data(), static_cast<std::streamsize>(bytes));
-  std::ofstream(to, std::ios::binary).write(data.data(), static_cast<std::streamsize>(bytes));
+  std::ofstream(to, std::ios::binary) << ReadText(from).substr(0, bytes);
 }
 
 fs::path ScratchDir(const std::string& name) {

@@ -17,13 +17,18 @@
 
 namespace {
 
+// Every command `parent` holds (CLI11's plain get_subcommands() gives the parsed ones).
+std::vector<CLI::App*> CommandsOf(CLI::App* parent) {
+  return parent->get_subcommands([](CLI::App*) { return true; });
+}
+
 // The command the words of argv name, as far as they name one (the program
 // itself when none); `unknown` gets the first word that names none where a
 // command belongs.
 CLI::App* NamedCommand(CLI::App& app, int argc, char** argv, std::string* unknown = nullptr) {
   CLI::App* current = &app;
   for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
-    const std::vector<CLI::App*> commands = current->get_subcommands([](CLI::App*) { return true; });
+    const std::vector<CLI::App*> commands = CommandsOf(current);
     if (commands.empty()) break;
     const auto named = std::find_if(commands.begin(), commands.end(),
                                     [&](CLI::App* command) { return command->get_name() == argv[i]; });
@@ -39,7 +44,7 @@ CLI::App* NamedCommand(CLI::App& app, int argc, char** argv, std::string* unknow
 // "landmarks, bench, ...": the commands `parent` holds.
 std::string CommandNames(CLI::App* parent) {
   std::vector<std::string> names;
-  for (CLI::App* command : parent->get_subcommands([](CLI::App*) { return true; })) names.push_back(command->get_name());
+  for (CLI::App* command : CommandsOf(parent)) names.push_back(command->get_name());
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
@@ -75,8 +80,7 @@ int ReportUsageError(CLI::App& app, const CLI::ParseError& error, int argc, char
   std::replace(message.begin(), message.end(), '\n', ' ');
   CLI::App* command = NamedCommand(app, argc, argv);
   const bool lacks_command = dynamic_cast<const CLI::RequiredError*>(&error) != nullptr &&
-                             !command->get_subcommands([](CLI::App*) { return true; }).empty() &&
-                             command->get_subcommands().empty();
+                             !CommandsOf(command).empty() && command->get_subcommands().empty();
   if (lacks_command) {
     message = fmt::format("no {} given: one of {}", CommandWord(app, command), CommandNames(command));
   }
