@@ -259,70 +259,74 @@ void EyeRegionModel::Pose(const Parameters& phi, PosedModel& posed, PoseWorkspac
     const Eigen::Matrix3d gaze_head = GazeRotation(phi.gaze_pitch(), EyeYaw(phi, eye));
     // The gaze rotation seen in this eye's model frame (ModelToHead is orthogonal).
     const Eigen::Matrix3d gaze_model = model_to_head.transpose() * gaze_head * model_to_head;
-    const Eigen::Vector3d centre_head = EyeCentreInHead(phi, eye);
-    // The region's frame in the camera's; its origin is the eyeball's centre.
-    const Eigen::Matrix3d region_to_camera = rotation * model_to_head;
-    const Eigen::Vector3d eyeball_origin = rotation * centre_head + translation;
-
-    // Facial part: rig the lids, subdivide, place in the camera frame.
-    work.rigged = work.shape;
-    rig_.Apply(phi.eyelid_pitch(), phi.eyelid_closure(), gaze_model * Eigen::Vector3d(0, -1, 0), work.rigged);
-    posed.region[eye] = work.rigged;
-    // Normals of the coarse mesh, subdivided like the positions: a quarter of
-    // the cross products of the fine mesh, and as smooth.
-    VertexNormals(work.rigged, base_triangles_, work.normals);
-    // Placed in the camera frame before subdividing, where there are a quarter
-    // as many vertices: subdivision is affine (each fine vertex's weights sum to 1).
-    work.coarse.resize(8, work.rigged.cols());
-    for (Eigen::Index i = 0; i < work.rigged.cols(); ++i) {
-      work.coarse.col(i) << (region_to_camera * work.rigged.col(i) + eyeball_origin).cast<float>(),
-          (region_to_camera * work.normals.col(i)).cast<float>(), 0.0f, 0.0f;
-    }
-    subdivision_.Apply(work.coarse, work.fine);
-    PosedPart& skin_part = posed.parts[SkinPart(eye)];
-    UnpackSkin(work.fine, skin_part.positions, skin_part.normals);
-    if (skin_part.uvs.cols() != skin_uvs_.cols()) skin_part.uvs = skin_uvs_.cast<float>();
-
-    // Eyeball: rotated by the gaze about its centre.
-    const Eigen::Matrix3d eyeball_to_camera = rotation * gaze_head * model_to_head;
-    PosedPart& ball = posed.parts[EyeballPart(eye)];
-    const int balls = eyeball_.num_vertices();
-    const Eigen::Matrix3f eyeball_to_camera_f = eyeball_to_camera.cast<float>();
-    ball.positions.noalias() = eyeball_to_camera_f * eyeball_positions_;
-    ball.positions.colwise() += eyeball_origin.cast<float>();
-    ball.normals.noalias() = eyeball_to_camera_f * eyeball_normals_;
-    // Texture coordinates: the sclera's depend only on the iris size (kept
-    // from the last pose when it has not changed), the cornea's on the view.
-    const double iris_size = phi.iris_size();
-    if (work.remapped_iris_size != iris_size) {
-      work.remapped_uvs.resize(2, balls);
-      for (int i = 0; i < balls; ++i) {
-        work.remapped_uvs.col(i) = EyeballModel::RemapForIrisSize(eyeball_.uvs().col(i), iris_size).cast<float>();
-      }
-      work.remapped_iris_size = iris_size;
-    }
     PosedEye& state = posed.eyes[eye];
-    state.centre = eyeball_origin;
+    // The region's frame in the camera's; its origin is the eyeball's centre.
+    state.region_to_camera = rotation * model_to_head;
+    state.centre = rotation * EyeCentreInHead(phi, eye) + translation;
+    state.eyeball_to_camera = rotation * gaze_head * model_to_head;
     state.gaze = rotation * gaze_head * Eigen::Vector3d(0, 0, -1);
-    state.eyeball_to_camera = eyeball_to_camera;
-    state.region_to_camera = region_to_camera;
-    ball.uvs = work.remapped_uvs;
-    eyeball_.RefractedUvs(state.CameraInEyeball(), iris_size, ball.uvs);
 
-    // The lid margins in the eyeball's angular coordinates.
-    std::array<Eigen::Vector2d, kLidCurvePoints> upper, lower;
-    auto angles_of = [&](int vertex) {
-      return EyeballModel::AnglesOf((gaze_model.transpose() * work.rigged.col(vertex)).normalized());
-    };
-    upper.front() = lower.front() = angles_of(topology::kInnerCorner);
-    upper.back() = lower.back() = angles_of(topology::kOuterCorner);
-    for (std::size_t i = 0; i < topology::kUpperMargin.size(); ++i) {
-      upper[i + 1] = angles_of(topology::kUpperMargin[i]);
-      lower[i + 1] = angles_of(topology::kLowerMargin[i]);
-    }
-    state.upper_lid = FitCubic(upper);
-    state.lower_lid = FitCubic(lower);
+    PoseSkin(phi, gaze_model, state, posed.parts[SkinPart(eye)], work);
+    posed.region[eye] = work.rigged;
+    PoseEyeball(phi.iris_size(), state, posed.parts[EyeballPart(eye)], work);
+    FitLidMargins(gaze_model, work.rigged, state);
   }
+}
+
+void EyeRegionModel::PoseSkin(const Parameters& phi, const Eigen::Matrix3d& gaze_model, const PosedEye& eye,
+                              PosedPart& skin, PoseWorkspace& work) const {
+  // Rig the lids, then place in the camera frame and subdivide.
+  work.rigged = work.shape;
+  rig_.Apply(phi.eyelid_pitch(), phi.eyelid_closure(), gaze_model * Eigen::Vector3d(0, -1, 0), work.rigged);
+  // Normals of the coarse mesh, subdivided like the positions: a quarter of
+  // the cross products of the fine mesh, and as smooth.
+  VertexNormals(work.rigged, base_triangles_, work.normals);
+  // Placed in the camera frame before subdividing, where there are a quarter
+  // as many vertices: subdivision is affine (each fine vertex's weights sum to 1).
+  work.coarse.resize(8, work.rigged.cols());
+  for (Eigen::Index i = 0; i < work.rigged.cols(); ++i) {
+    work.coarse.col(i) << (eye.region_to_camera * work.rigged.col(i) + eye.centre).cast<float>(),
+        (eye.region_to_camera * work.normals.col(i)).cast<float>(), 0.0f, 0.0f;
+  }
+  subdivision_.Apply(work.coarse, work.fine);
+  UnpackSkin(work.fine, skin.positions, skin.normals);
+  if (skin.uvs.cols() != skin_uvs_.cols()) skin.uvs = skin_uvs_.cast<float>();
+}
+
+void EyeRegionModel::PoseEyeball(double iris_size, const PosedEye& eye, PosedPart& ball, PoseWorkspace& work) const {
+  // Rotated by the gaze about its centre.
+  const Eigen::Matrix3f eyeball_to_camera = eye.eyeball_to_camera.cast<float>();
+  ball.positions.noalias() = eyeball_to_camera * eyeball_positions_;
+  ball.positions.colwise() += eye.centre.cast<float>();
+  ball.normals.noalias() = eyeball_to_camera * eyeball_normals_;
+  // Texture coordinates: the sclera's depend only on the iris size (kept
+  // from the last pose when it has not changed), the cornea's on the view.
+  if (work.remapped_iris_size != iris_size) {
+    const int vertices = eyeball_.num_vertices();
+    work.remapped_uvs.resize(2, vertices);
+    for (int i = 0; i < vertices; ++i) {
+      work.remapped_uvs.col(i) = EyeballModel::RemapForIrisSize(eyeball_.uvs().col(i), iris_size).cast<float>();
+    }
+    work.remapped_iris_size = iris_size;
+  }
+  ball.uvs = work.remapped_uvs;
+  eyeball_.RefractedUvs(eye.CameraInEyeball(), iris_size, ball.uvs);
+}
+
+void EyeRegionModel::FitLidMargins(const Eigen::Matrix3d& gaze_model, const Eigen::Matrix3Xd& rigged, PosedEye& eye) {
+  // The margins' vertices in the eyeball's angular coordinates.
+  std::array<Eigen::Vector2d, kLidCurvePoints> upper, lower;
+  auto angles_of = [&](int vertex) {
+    return EyeballModel::AnglesOf((gaze_model.transpose() * rigged.col(vertex)).normalized());
+  };
+  upper.front() = lower.front() = angles_of(topology::kInnerCorner);
+  upper.back() = lower.back() = angles_of(topology::kOuterCorner);
+  for (std::size_t i = 0; i < topology::kUpperMargin.size(); ++i) {
+    upper[i + 1] = angles_of(topology::kUpperMargin[i]);
+    lower[i + 1] = angles_of(topology::kLowerMargin[i]);
+  }
+  eye.upper_lid = FitCubic(upper);
+  eye.lower_lid = FitCubic(lower);
 }
 
 }  // namespace gazedirector

@@ -136,6 +136,15 @@ class EyeRegionModel {
   static Eigen::Matrix3d ModelToHead(int eye);
 
  private:
+  // One eye's facial region: the lids rigged for Φ's lids and gaze (left in
+  // work.rigged, in the model frame), then placed and subdivided.
+  void PoseSkin(const Parameters& phi, const Eigen::Matrix3d& gaze_model, const PosedEye& eye, PosedPart& skin,
+                PoseWorkspace& work) const;
+  // One eyeball placed as `eye` says, its texture coordinates refracted for the view.
+  void PoseEyeball(double iris_size, const PosedEye& eye, PosedPart& ball, PoseWorkspace& work) const;
+  // The lid margins of the rigged region as cubics in the eyeball's angles.
+  static void FitLidMargins(const Eigen::Matrix3d& gaze_model, const Eigen::Matrix3Xd& rigged, PosedEye& eye);
+
   ShapeModel shape_;
   Subdivision subdivision_;
   EyeballModel eyeball_;
