@@ -99,10 +99,12 @@ TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
   const fs::path dir = ScratchDir("cli_redirect_image");
   std::string output;
   ASSERT_EQ(RunCli("redirect " + Quote(DataPath("images/d19.jpg")) + " -o " + Quote(dir / "out.jpg") +
-                       " --look-at camera --side-by-side --debug-dir " + Quote(dir / "debug"),
+                       " --look-at camera --side-by-side --debug-dir " + Quote(dir / "debug") + " --refit",
                    &output),
             0)
       << output;
+  // --refit is for a video's stored fits: an image says it changes nothing.
+  EXPECT_NE(output.find("--refit: an image is fitted anew on every run"), std::string::npos) << output;
   const cv::Mat input = ReadImage(DataPath("images/d19.jpg")), result = ReadImage(dir / "out.jpg");
   EXPECT_EQ(result.cols, 2 * input.cols);
   EXPECT_EQ(result.rows, input.rows);
@@ -513,13 +515,16 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " -o " + Quote(dir / "camera.mp4") + " --offset 0,10", &output), 0) << output;
   EXPECT_NE(output.find("reusing the fits"), std::string::npos) << output;
   // Two stages: edited fits are used as given.
+  // Debugging pictures are made for images only: a video says so and makes no folder for them.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "left.mp4") +
-                       " --gaze 0,-20 --frame head",
+                       " --gaze 0,-20 --frame head --debug-dir " + Quote(dir / "debug"),
                    &output),
             0)
       << output;
   EXPECT_EQ(CountFrames(dir / "left.mp4"), CountFrames(input));
   EXPECT_EQ(output.find("beyond the eyes' reach"), std::string::npos) << output;
+  EXPECT_NE(output.find("--debug-dir: the debugging pictures are made for images only"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir / "debug"));
   // A point behind her head: the eyes turn as far toward it as they can, and the command says so once.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "behind.mp4") +
                        " --look-at 0,0,5000",

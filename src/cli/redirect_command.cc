@@ -430,11 +430,24 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   return 0;
 }
 
+// Options that mean nothing for this kind of input are said to be ignored
+// rather than dropped silently.
+void WarnOfOptionsForTheOtherKind(const RedirectCommandOptions& options, MediaKind kind) {
+  if (kind == MediaKind::kVideo && !options.debug_dir.empty()) {
+    spdlog::warn("--debug-dir: the debugging pictures are made for images only, so none are written for this video "
+                 "(redirect one of its frames saved as an image to see them)");
+  }
+  if (kind == MediaKind::kImage && options.refit) {
+    spdlog::warn("--refit: an image is fitted anew on every run unless --fits is given, so it changes nothing here");
+  }
+}
+
 int RunRedirect(const RedirectCommandOptions& options) {
   ApplyLogLevel(options.common);
   const MediaKind kind = DetectMediaKind(options.input);
   RequireOutputKind(options.output, "-o", kind, options.input);
-  RequireWritableFolder(options.debug_dir, "--debug-dir");
+  WarnOfOptionsForTheOtherKind(options, kind);
+  if (kind == MediaKind::kImage) RequireWritableFolder(options.debug_dir, "--debug-dir");
   if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
     Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
   }
