@@ -59,6 +59,7 @@ cv::Size ParseSize(const std::string& text) {
 int RunRender(const RenderOptions& options) {
   ApplyLogLevel(options.common);
   RequireImageOutput(options.output, "-o");
+  RequireWritableFolder(options.buffers_dir, "--buffers");
   if (!std::all_of(options.gaze.begin(), options.gaze.end(), WithinQuarterTurn)) {
     Fail(ExitCode::kUsage, "--gaze {},{}: degrees within -90 to 90", options.gaze[0], options.gaze[1]);
   }
@@ -123,8 +124,11 @@ Command RegisterRenderCommand(CLI::App& root) {
   CLI::App* app = root.add_subcommand("render", "Render the eye-region model, alone or over a real face");
   app->add_option("-o,--output", options->output, "Output image")->required();
   app->add_option("--params", options->params, "Model parameters Φ (JSON); default: the mean model looking at the camera");
-  app->add_option("--size", options->size, "Image size WIDTHxHEIGHT without --overlay")->capture_default_str();
-  app->add_option("--overlay", options->overlay, "Draw the model over this photo, placed from its face's landmarks");
+  CLI::Option* size =
+      app->add_option("--size", options->size, "Image size WIDTHxHEIGHT without --overlay")->capture_default_str();
+  // Over a photo the image is the photo's size.
+  app->add_option("--overlay", options->overlay, "Draw the model over this photo, placed from its face's landmarks")
+      ->excludes(size);
   app->add_option("--gaze", options->gaze, "Gaze pitch,yaw in degrees (head frame; up and toward the subject's left are +)")
       ->expected(2)->delimiter(',');
   app->add_option("--eyelid", options->eyelid, "Eyelid pitch in degrees (up +)");
