@@ -420,6 +420,20 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
             0)
       << output;
   EXPECT_NE(output.find("face 0: the point (0, 0, 5000) mm lies beyond the eyes' reach"), std::string::npos) << output;
+  // A gaze script given for an image: the image takes its target at 0 s, and says the later segments go unused.
+  {
+    std::ofstream script(dir / "script.json");
+    script << R"({"segments": [{"start_s": 0, "target": "camera"}, {"start_s": 2, "target": {"gaze": [0, 20]}}]})";
+  }
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " --fits " + Quote(dir / "d30.jsonl") + " -o " +
+                       Quote(dir / "scripted.jpg") + " --script " + Quote(dir / "script.json"),
+                   &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("an image takes the gaze script's target at 0 s, so the gaze script's segment starting at 2 s "
+                        "is not used"),
+            std::string::npos)
+      << output;
   {
     std::ofstream script(dir / "bad_script.json");
     script << R"({"segments": [{"start_s": 0, "target": {"look_at": "there"}}]})";

@@ -150,12 +150,32 @@ std::vector<StoredFit> FitsOfImage(const RedirectCommandOptions& options, const 
   return fits;
 }
 
+// Says which of the script's segments start after a video ends, or, for an
+// image (no duration), after 0 s: an image is redirected to the script's first moment.
+void WarnOfUnseenSegments(const GazeScript& script, std::optional<double> video_duration_s) {
+  std::vector<std::string> unseen;
+  for (const double start : script.StartTimes()) {
+    const bool seen = video_duration_s ? start < *video_duration_s : start <= 0;
+    if (!seen) unseen.push_back(fmt::format("{:g} s", start));
+  }
+  if (unseen.empty()) return;
+  const std::string segments =
+      fmt::format("the gaze script's segment{} starting at {}", unseen.size() == 1 ? "" : "s", fmt::join(unseen, ", "));
+  if (video_duration_s) {
+    spdlog::warn("the video ends at {:.1f} s, so {} will not be seen", *video_duration_s, segments);
+  } else {
+    spdlog::warn("an image takes the gaze script's target at 0 s, so {} {} not used", segments,
+                 unseen.size() == 1 ? "is" : "are");
+  }
+}
+
 int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const SourceImage source = ReadSourceImage(options.input);
   const cv::Mat& image = source.bgr;
   const Camera camera = options.camera.Resolve(image.cols, image.rows);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  WarnOfUnseenSegments(script, std::nullopt);
   const std::vector<StoredFit> fits = FitsOfImage(options, setup, image, camera);
 
   cv::Mat result = image.clone();
@@ -327,17 +347,6 @@ std::map<long, std::map<int, double>> RedirectionWeights(const FitsFile& fits, d
   return weights;
 }
 
-void WarnOfUnseenSegments(const GazeScript& script, const VideoInfo& info) {
-  std::vector<std::string> unseen;
-  for (const double start : script.StartTimes()) {
-    if (start >= info.duration_s()) unseen.push_back(fmt::format("{:g} s", start));
-  }
-  if (!unseen.empty()) {
-    spdlog::warn("the video ends at {:.1f} s, so the gaze script's segment{} starting at {} will not be seen",
-                 info.duration_s(), unseen.size() == 1 ? "" : "s", fmt::join(unseen, ", "));
-  }
-}
-
 // A video's fits: given (--fits), stored by an earlier run, or tracked now;
 // `iris_off` is filled where tracking found them on the way.
 FitsFile FitsOfVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const Camera& camera,
@@ -363,7 +372,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   const VideoInfo& info = reader.info();
   const Camera camera = options.camera.Resolve(info.width, info.height);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
-  WarnOfUnseenSegments(script, info);
+  WarnOfUnseenSegments(script, info.duration_s());
 
   // Stage 1: the fits, and the faces and frames held as they were.
   std::optional<std::set<FitKey>> iris_off;  // found while tracking, else in a pass of their own
