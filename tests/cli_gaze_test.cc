@@ -393,6 +393,10 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
         << target << ": " << output;
     EXPECT_NE(output.find("within -90 to 90"), std::string::npos) << output;
   }
+  // An image's output is an image, of any format it can be written in; the message lists them.
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "d.mp4"), &output), 2) << output;
+  EXPECT_NE(output.find("an image's output is an image (.png, .jpg, .jpeg, .tif, .tiff, .webp, .bmp)"), std::string::npos)
+      << output;
   EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/s39.jpg")) + " -o " + Quote(dir / "cat.jpg"), &output), 3) << output;
   EXPECT_NE(output.find("no face"), std::string::npos) << output;
   // So does a video without a face in any frame (it was copied unchanged with exit code 0), and writes
@@ -449,7 +453,7 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   EXPECT_NE(output.find("refusing to overwrite the input"), std::string::npos) << output;
   EXPECT_EQ(output.find("redirected"), std::string::npos) << output;
   EXPECT_EQ(testing::ReadText(dir / "own.jpg"), testing::ReadText(DataPath("images/d30.jpg")));
-  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "c.jpg") ||
+  EXPECT_FALSE(fs::exists(dir / "a.jpg") || fs::exists(dir / "b.jpg") || fs::exists(dir / "c.jpg") || fs::exists(dir / "d.mp4") ||
                fs::exists(dir / "cat.jpg") || fs::exists(dir / "v.mp4"));
   EXPECT_TRUE(NoPartialFiles(dir));
 }

@@ -123,6 +123,10 @@ TEST(CliRenderTest, BadSizesAndClashingOptionsFailWithUsageErrors) {
             2);
   EXPECT_NE(output.find("--size excludes --overlay"), std::string::npos) << output;
   EXPECT_EQ(RunCli("render -o " + Quote(dir / "c.mp4"), &output), 2) << output;
+  EXPECT_NE(output.find("-o " + (dir / "c.mp4").string() +
+                        ": expected an image file (.png, .jpg, .jpeg, .tif, .tiff, .webp, .bmp)"),
+            std::string::npos)
+      << output;
   EXPECT_TRUE(fs::is_empty(dir));
 }
 

@@ -54,19 +54,23 @@ void RequireExtension(const std::filesystem::path& path, const std::string& opti
   }
 }
 
+namespace {
+
+const std::vector<std::string> kImageExtensions = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".bmp"};
+
+}  // namespace
+
 bool IsImagePath(const std::filesystem::path& path) {
-  const std::string extension = LowerExtension(path);
-  return extension == ".png" || extension == ".jpg" || extension == ".jpeg" || extension == ".bmp" ||
-         extension == ".tif" || extension == ".tiff" || extension == ".webp";
+  return std::find(kImageExtensions.begin(), kImageExtensions.end(), LowerExtension(path)) != kImageExtensions.end();
 }
 
 void RequireOutputKind(const std::string& path, const std::string& option, MediaKind kind, const std::string& input) {
   if (path.empty()) return;
   if (kind == MediaKind::kImage && !IsImagePath(path)) {
-    Fail(ExitCode::kUsage, "{} {}: an image's output is an image (.png or .jpg)", option, path);
+    Fail(ExitCode::kUsage, "{} {}: an image's output is an image ({})", option, path, fmt::join(kImageExtensions, ", "));
   }
   if (kind == MediaKind::kVideo && !HasVideoExtension(path)) {
-    Fail(ExitCode::kUsage, "{} {}: a video's output is a video (.mp4, .mkv, .gif)", option, path);
+    Fail(ExitCode::kUsage, "{} {}: a video's output is a video ({})", option, path, fmt::join(VideoExtensions(), ", "));
   }
   RequireWritable(path, {input});
 }
@@ -87,7 +91,9 @@ void RequireCsvOutput(const std::string& csv, const std::vector<std::filesystem:
 
 void RequireImageOutput(const std::string& path, const std::string& option) {
   if (path.empty()) return;
-  if (!IsImagePath(path)) Fail(ExitCode::kUsage, "{} {}: expected an image file (.png, .jpg)", option, path);
+  if (!IsImagePath(path)) {
+    Fail(ExitCode::kUsage, "{} {}: expected an image file ({})", option, path, fmt::join(kImageExtensions, ", "));
+  }
   RequireWritable(path);
 }
 

@@ -97,10 +97,14 @@ std::string LowerExtension(const fs::path& path) {
   return extension;
 }
 
+const std::vector<std::string>& VideoExtensions() {
+  static const std::vector<std::string> extensions = {".mp4", ".mov", ".m4v", ".mkv", ".avi", ".webm", ".gif"};
+  return extensions;
+}
+
 bool HasVideoExtension(const fs::path& path) {
-  static const std::array<std::string_view, 7> kExt = {".mp4", ".mov", ".m4v", ".mkv", ".avi", ".webm", ".gif"};
-  const std::string ext = LowerExtension(path);
-  return std::find(kExt.begin(), kExt.end(), ext) != kExt.end();
+  const std::vector<std::string>& extensions = VideoExtensions();
+  return std::find(extensions.begin(), extensions.end(), LowerExtension(path)) != extensions.end();
 }
 
 MediaKind DetectMediaKind(const fs::path& path) {

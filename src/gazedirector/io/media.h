@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace gazedirector {
 
@@ -15,7 +16,9 @@ MediaKind DetectMediaKind(const std::filesystem::path& path);
 // The path's extension in lower case, with its dot ("photo.JPG" -> ".jpg").
 std::string LowerExtension(const std::filesystem::path& path);
 
-// True when the path's extension names a video container we can write.
+// The video containers we can write, by extension (".mp4", ...).
+const std::vector<std::string>& VideoExtensions();
+// True when the path's extension names one of them.
 bool HasVideoExtension(const std::filesystem::path& path);
 
 struct ImageHeader {
