@@ -116,5 +116,43 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsAudioAndMetadata) {
   EXPECT_EQ(probe(path, "stream=codec_type"), "video\naudio\n");
 }
 
+// A WebM output holds VP9 and Opus: the source's H.264 frames are encoded
+// again and its AAC audio is converted rather than copied (which WebM refuses).
+TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudio) {
+  ASSERT_TRUE(ProgramExists("ffmpeg") && ProgramExists("ffprobe")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path source = testing::DataPath("video/d10.mp4");
+  const fs::path path = ScratchDir("video_writer") / "web.webm";
+  VideoReader reader(source);
+  std::vector<cv::Mat> frames;
+  {
+    VideoWriter writer(path, WriterOptionsFor(source, reader.info()));
+    cv::Mat frame;
+    for (int i = 0; i < 10 && reader.Read(frame); ++i) {
+      writer.Write(frame, reader.timestamp_s());
+      frames.push_back(frame.clone());
+    }
+    writer.Finish();
+  }
+  const std::string streams = RunForOutput({"ffprobe", "-v", "error", "-count_frames", "-show_entries",
+                                            "stream=codec_name,nb_read_frames", "-of", "csv=p=0", path.string()})
+                                  .value_or("none");
+  // Ten video frames; the audio is the source's whole track.
+  EXPECT_EQ(streams.substr(0, streams.find('\n')), "vp9,10") << streams;
+  EXPECT_EQ(streams.substr(streams.find('\n') + 1, 5), "opus,") << streams;
+  // OpenCV reads back all but the last of these ten (their audio runs 15 s
+  // past them; a whole redirected video reads back whole).
+  VideoReader written(path);
+  cv::Mat frame;
+  std::size_t count = 0;
+  for (; written.Read(frame); ++count) {
+    ASSERT_LT(count, frames.size());
+    cv::Mat difference;
+    cv::absdiff(frame, frames[count], difference);
+    const cv::Scalar mean = cv::mean(difference);
+    EXPECT_LT((mean[0] + mean[1] + mean[2]) / 3, 3.0) << "frame " << count;
+  }
+  EXPECT_GE(count, frames.size() - 1);
+}
+
 }  // namespace
 }  // namespace gazedirector
