@@ -172,6 +172,15 @@ ColourTags ProbeColourTags(const std::filesystem::path& video) {
   return tags;
 }
 
+std::string ProbeAudioCodec(const std::filesystem::path& video) {
+  if (!ProgramExists("ffprobe")) return "";
+  const std::optional<std::string> output =
+      RunForOutput({"ffprobe", "-v", "error", "-select_streams", "a:0", "-show_entries", "stream=codec_name", "-of",
+                    "csv=p=0", video.string()});
+  if (!output) return "";
+  return output->substr(0, output->find_first_of("\r\n,"));
+}
+
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info) {
   constexpr std::size_t kStretch = 10;  // frames: shorter bursts may shift by a frame or two
   constexpr double kMaxRate = 120;

@@ -80,4 +80,8 @@ struct ColourTags {
 // names ffmpeg accepts back are kept. Empty without ffprobe.
 ColourTags ProbeColourTags(const std::filesystem::path& video);
 
+// The codec of a video's first audio stream as ffmpeg names it ("aac",
+// "opus", ...); empty where it has none, or without ffprobe.
+std::string ProbeAudioCodec(const std::filesystem::path& video);
+
 }  // namespace gazedirector

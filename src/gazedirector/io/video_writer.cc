@@ -1,7 +1,10 @@
 #include "gazedirector/io/video_writer.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "gazedirector/io/media.h"
 #include "gazedirector/util/error.h"
@@ -14,6 +17,21 @@ namespace {
 // "realtime" encoder: 40 frames of d3 take 188 kB, x264's crf 18 158 kB.
 constexpr int kWebmCrf = 20;
 
+// How the source's audio goes into a container: copied where the container
+// takes its codec, else converted. Matroska takes them all.
+std::string AudioEncoder(const std::string& extension, const std::string& codec) {
+  static const std::map<std::string, std::vector<std::string>> kTakes = {
+      {".webm", {"opus", "vorbis"}},
+      {".mp4", {"aac", "mp3", "opus", "flac", "alac", "ac3", "eac3"}},
+      {".m4v", {"aac", "mp3", "alac", "ac3", "eac3"}},
+      {".mov", {"aac", "mp3", "alac", "ac3", "eac3", "pcm_s16le", "pcm_s24le"}},
+      {".avi", {"aac", "mp3", "ac3", "pcm_s16le", "pcm_u8"}}};
+  const auto takes = kTakes.find(extension);
+  if (takes == kTakes.end() || codec.empty()) return "copy";
+  if (std::find(takes->second.begin(), takes->second.end(), codec) != takes->second.end()) return "copy";
+  return extension == ".webm" ? "libopus" : "aac";
+}
+
 }  // namespace
 
 VideoWriterOptions WriterOptionsFor(const fs::path& source, const VideoInfo& info, int width) {
@@ -23,6 +41,7 @@ VideoWriterOptions WriterOptionsFor(const fs::path& source, const VideoInfo& inf
   options.frame_rate = SteadyFrameRate(source, info);
   options.source = source;
   options.colour = ProbeColourTags(source);
+  options.source_audio_codec = ProbeAudioCodec(source);
   return options;
 }
 
@@ -39,13 +58,13 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options
                                    "-s", std::to_string(options.width) + "x" + std::to_string(options.height),
                                    "-framerate", rate, "-i", "pipe:0"};
   const bool gif = extension == ".gif";
-  // WebM holds VP9 and Opus, not H.264 or a source's AAC.
+  // WebM holds VP9 (and Opus or Vorbis audio), not H.264.
   const bool webm = extension == ".webm";
   if (!gif && !options.source.empty()) {
     // Only the container's metadata: the source's display turn, the video
     // stream's, is already in the frames, which are written upright.
     argv.insert(argv.end(), {"-i", options.source.string(), "-map", "0:v:0", "-map", "1:a?", "-c:a",
-                             webm ? "libopus" : "copy", "-map_metadata", "1"});
+                             AudioEncoder(extension, options.source_audio_codec), "-map_metadata", "1"});
   }
   if (gif) {
     argv.insert(argv.end(), {"-vf", "split[a][b];[a]palettegen=stats_mode=diff[p];[b][p]paletteuse=dither=bayer"});

@@ -18,9 +18,11 @@ struct VideoWriterOptions {
   // The output's constant rate; frames are placed on it by their times (see
   // SteadyFrameRate for a variable-rate source).
   FrameRate frame_rate;
-  // The video these frames came from: its audio tracks are copied unchanged,
-  // and its metadata (creation time, place, ...) too, when set.
+  // The video these frames came from: its audio is copied unchanged where
+  // the output's container takes its codec (else converted: Opus for WebM,
+  // AAC otherwise), and its metadata (creation time, place, ...) too, when set.
   std::filesystem::path source;
+  std::string source_audio_codec = {};  // ProbeAudioCodec(source)
   // Written into the output (not GIF) so that players show its colours as the
   // source's: frames are read and written with the same matrix, so the tags
   // of the source describe the output's values too.
@@ -33,8 +35,8 @@ struct VideoWriterOptions {
 // (SteadyFrameRate), its colour tags, audio and metadata.
 VideoWriterOptions WriterOptionsFor(const std::filesystem::path& source, const VideoInfo& info, int width = 0);
 
-// Encodes BGR frames to H.264 (or GIF for a .gif path) through the ffmpeg
-// program, copying the audio and metadata of the source. Each frame is shown from its
+// Encodes BGR frames to H.264 (VP9 for a .webm path, GIF for a .gif path)
+// through the ffmpeg program, with the audio and metadata of the source. Each frame is shown from its
 // time on: where the next frame comes later than one step of the output's
 // rate, it is held (a variable-rate source or a gap), and frames that come
 // sooner than one step each still get one. The output appears only when

@@ -117,11 +117,13 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsAudioAndMetadata) {
 }
 
 // A WebM output holds VP9 and Opus: the source's H.264 frames are encoded
-// again and its AAC audio is converted rather than copied (which WebM refuses).
-TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudio) {
+// again and its AAC audio is converted rather than copied (which WebM refuses);
+// so is audio that another container does not take.
+TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudioAndAnyContainerTakesItsAudio) {
   ASSERT_TRUE(ProgramExists("ffmpeg") && ProgramExists("ffprobe")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path source = testing::DataPath("video/d10.mp4");
-  const fs::path path = ScratchDir("video_writer") / "web.webm";
+  const fs::path dir = ScratchDir("video_writer_webm");
+  const fs::path path = dir / "web.webm";
   VideoReader reader(source);
   std::vector<cv::Mat> frames;
   {
@@ -152,6 +154,20 @@ TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudio) {
     EXPECT_LT((mean[0] + mean[1] + mean[2]) / 3, 3.0) << "frame " << count;
   }
   EXPECT_GE(count, frames.size() - 1);
+
+  EXPECT_EQ(ProbeAudioCodec(source), "aac");
+  EXPECT_EQ(ProbeAudioCodec(path), "opus");
+  // Written again as QuickTime, whose container takes no Opus: the audio becomes AAC.
+  const fs::path mov = dir / "from_web.mov";
+  {
+    VideoReader web(path);
+    VideoWriter writer(mov, WriterOptionsFor(path, web.info()));
+    for (int i = 0; i < 3 && web.Read(frame); ++i) writer.Write(frame, web.timestamp_s());
+    writer.Finish();
+  }
+  EXPECT_EQ(RunForOutput({"ffprobe", "-v", "error", "-show_entries", "stream=codec_name", "-of", "csv=p=0", mov.string()})
+                .value_or("none"),
+            "h264\naac\n");
 }
 
 }  // namespace
