@@ -532,8 +532,8 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   // A second run re-renders from the stored fits, without tracking again.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " -o " + Quote(dir / "camera.mp4") + " --offset 0,10", &output), 0) << output;
   EXPECT_NE(output.find("reusing the fits"), std::string::npos) << output;
-  // Two stages: edited fits are used as given.
-  // Debugging pictures are made for images only: a video says so and makes no folder for them.
+  // Two stages: edited fits are used as given. Debugging pictures are made for images only: a video
+  // says so and makes no folder for them.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "left.mp4") +
                        " --gaze 0,-20 --frame head --debug-dir " + Quote(dir / "debug"),
                    &output),

@@ -29,6 +29,13 @@ std::vector<int> ShownNumbers(const fs::path& video) {
   return numbers;
 }
 
+// What ffprobe says of a video's `entries`, one value per line ("none" without an answer).
+std::string Probe(const fs::path& video, const std::string& entries, bool count_frames = false) {
+  std::vector<std::string> argv = {"ffprobe", "-v", "error", "-show_entries", entries, "-of", "csv=p=0", video.string()};
+  if (count_frames) argv.insert(argv.begin() + 1, "-count_frames");
+  return RunForOutput(argv).value_or("none");
+}
+
 TEST(VideoWriterTest, HoldsEachFrameUntilTheNextOnesTimeAndDropsNone) {
   ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path path = ScratchDir("video_writer") / "variable.mp4";
@@ -108,12 +115,8 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsAudioAndMetadata) {
     for (int i = 0; i < 5 && reader.Read(frame); ++i) writer.Write(frame, reader.timestamp_s());
     writer.Finish();
   }
-  auto probe = [](const fs::path& video, const std::string& entries) {
-    return RunForOutput({"ffprobe", "-v", "error", "-show_entries", entries, "-of", "csv=p=0", video.string()})
-        .value_or("none");
-  };
-  EXPECT_EQ(probe(path, "format_tags=creation_time"), "2024-07-11T07:56:57.000000Z\n");
-  EXPECT_EQ(probe(path, "stream=codec_type"), "video\naudio\n");
+  EXPECT_EQ(Probe(path, "format_tags=creation_time"), "2024-07-11T07:56:57.000000Z\n");
+  EXPECT_EQ(Probe(path, "stream=codec_type"), "video\naudio\n");
 }
 
 // A WebM output holds VP9 and Opus: the source's H.264 frames are encoded
@@ -135,9 +138,7 @@ TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudioAndAnyContainerTakesItsAu
     }
     writer.Finish();
   }
-  const std::string streams = RunForOutput({"ffprobe", "-v", "error", "-count_frames", "-show_entries",
-                                            "stream=codec_name,nb_read_frames", "-of", "csv=p=0", path.string()})
-                                  .value_or("none");
+  const std::string streams = Probe(path, "stream=codec_name,nb_read_frames", /*count_frames=*/true);
   // Ten video frames; the audio is the source's whole track.
   EXPECT_EQ(streams.substr(0, streams.find('\n')), "vp9,10") << streams;
   EXPECT_EQ(streams.substr(streams.find('\n') + 1, 5), "opus,") << streams;
@@ -165,9 +166,7 @@ TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudioAndAnyContainerTakesItsAu
     for (int i = 0; i < 3 && web.Read(frame); ++i) writer.Write(frame, web.timestamp_s());
     writer.Finish();
   }
-  EXPECT_EQ(RunForOutput({"ffprobe", "-v", "error", "-show_entries", "stream=codec_name", "-of", "csv=p=0", mov.string()})
-                .value_or("none"),
-            "h264\naac\n");
+  EXPECT_EQ(Probe(mov, "stream=codec_name"), "h264\naac\n");
 }
 
 }  // namespace
