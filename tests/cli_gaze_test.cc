@@ -1,4 +1,5 @@
 // End-to-end tests of `gazedirector track` and `gazedirector redirect` on real photos and videos.
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -99,12 +100,15 @@ TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
   const fs::path dir = ScratchDir("cli_redirect_image");
   std::string output;
   ASSERT_EQ(RunCli("redirect " + Quote(DataPath("images/d19.jpg")) + " -o " + Quote(dir / "out.jpg") +
-                       " --look-at camera --side-by-side --debug-dir " + Quote(dir / "debug") + " --refit",
+                       " --look-at camera --side-by-side --debug-dir " + Quote(dir / "debug") +
+                       " --debug-frames 3 --refit",
                    &output),
             0)
       << output;
-  // --refit is for a video's stored fits: an image says it changes nothing.
+  // --refit is for a video's stored fits and --debug-frames chooses a video's frames: an image says
+  // they change nothing.
   EXPECT_NE(output.find("--refit: an image is fitted anew on every run"), std::string::npos) << output;
+  EXPECT_NE(output.find("--debug-frames chooses a video's frames"), std::string::npos) << output;
   const cv::Mat input = ReadImage(DataPath("images/d19.jpg")), result = ReadImage(dir / "out.jpg");
   EXPECT_EQ(result.cols, 2 * input.cols);
   EXPECT_EQ(result.rows, input.rows);
@@ -386,6 +390,12 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
                    &output),
             2)
       << output;
+  // --debug-frames chooses which pictures --debug-dir gets, so it needs it.
+  EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "a.jpg") + " --debug-frames 3",
+                   &output),
+            2)
+      << output;
+  EXPECT_NE(output.find("--debug-frames requires --debug-dir"), std::string::npos) << output;
   for (const std::string target : {"--gaze 1000,0", "--gaze nan,0", "--offset 0,400"}) {
     EXPECT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "a.jpg") + " " + target,
                      &output),
@@ -532,17 +542,31 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   // A second run re-renders from the stored fits, without tracking again.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " -o " + Quote(dir / "camera.mp4") + " --offset 0,10", &output), 0) << output;
   EXPECT_NE(output.find("reusing the fits"), std::string::npos) << output;
-  // Two stages: edited fits are used as given. Debugging pictures are made for images only: a video
-  // says so and makes no folder for them.
+  // Two stages: edited fits are used as given. Debugging pictures of the frames asked for: all of
+  // them for a redirected frame, the fit's overlay alone for a blink left as it was; a frame past
+  // the end is named.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "left.mp4") +
-                       " --gaze 0,-20 --frame head --debug-dir " + Quote(dir / "debug"),
+                       " --gaze 0,-20 --frame head --debug-dir " + Quote(dir / "debug") +
+                       fmt::format(" --debug-frames 10,{},5000", blinks.front()),
                    &output),
             0)
       << output;
   EXPECT_EQ(CountFrames(dir / "left.mp4"), CountFrames(input));
   EXPECT_EQ(output.find("beyond the eyes' reach"), std::string::npos) << output;
-  EXPECT_NE(output.find("--debug-dir: the debugging pictures are made for images only"), std::string::npos) << output;
-  EXPECT_FALSE(fs::exists(dir / "debug"));
+  EXPECT_NE(output.find("so frame 5000 had no pictures"), std::string::npos) << output;
+  std::vector<std::string> pictures;
+  for (const auto& entry : fs::directory_iterator(dir / "debug")) pictures.push_back(entry.path().filename().string());
+  std::sort(pictures.begin(), pictures.end());
+  const std::string blink = fmt::format("frame{:05d}_fit_overlay.png", blinks.front());
+  EXPECT_EQ(std::count(pictures.begin(), pictures.end(), blink), 1) << fmt::format("{}", fmt::join(pictures, " "));
+  for (const char* name : {"fit_overlay.png", "flow.png", "eyeball_mask.png", "skin_mask.png", "eyeball_layer.png"}) {
+    EXPECT_TRUE(fs::exists(dir / "debug" / (std::string("frame00010_") + name))) << name;
+  }
+  for (const std::string& picture : pictures) {
+    EXPECT_TRUE(picture.rfind("frame00010_", 0) == 0 || picture == blink) << picture;
+  }
+  const cv::Mat overlay = ReadImage(dir / "debug" / "frame00010_fit_overlay.png");
+  EXPECT_EQ(overlay.size(), ReadImage(dir / "debug" / blink).size());
   // A point behind her head: the eyes turn as far toward it as they can, and the command says so once.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "behind.mp4") +
                        " --look-at 0,0,5000",

@@ -52,6 +52,7 @@ struct RedirectCommandOptions {
   std::string script;
   std::string fits;
   std::string debug_dir;
+  std::vector<long> debug_frames;
   bool side_by_side = false;
   bool rendered_eyeballs = false;
   bool no_eyelids = false;
@@ -119,6 +120,28 @@ void WriteDebug(const std::filesystem::path& dir, const std::string& prefix, con
     WriteImage(dir / (prefix + "environment.png"), BuiltInEnvironmentMaps()[report.environment].Picture(), inputs);
   }
 }
+
+// The video frames that get debugging pictures: those listed (--debug-frames),
+// else the first frame of every second.
+class DebugFrameChoice {
+ public:
+  explicit DebugFrameChoice(const std::vector<long>& listed) : listed_(listed.begin(), listed.end()) {}
+  bool Wants(long index, double time_s) {
+    if (!listed_.empty()) return listed_.contains(index);
+    const long second = static_cast<long>(std::floor(time_s));
+    if (second <= last_second_) return false;
+    last_second_ = second;
+    return true;
+  }
+  // The listed frames after `last_index`, which the video does not reach.
+  std::vector<long> ListedAfter(long last_index) const {
+    return {listed_.upper_bound(last_index), listed_.end()};
+  }
+
+ private:
+  std::set<long> listed_;
+  long last_second_ = -1;
+};
 
 std::string EyeList(const std::array<bool, 2>& eyes) {
   if (eyes[0] && eyes[1]) return "both eyes";
@@ -391,28 +414,47 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   Redirector redirector(setup.model, redirect_options);
   std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
   Progress progress("redirect", info.frame_count, "frames", options.common.quiet);
+  DebugFrameChoice debug_choice(options.debug_frames);
+  std::optional<Renderer> debug_renderer;
+  if (!options.debug_dir.empty()) debug_renderer.emplace(setup.model);
   cv::Mat frame;
-  long redirected_frames = 0, untouched = 0, beyond_reach = 0;
+  long redirected_frames = 0, untouched = 0, beyond_reach = 0, debugged_frames = 0;
   while (reader.Read(frame)) {
     ThrowIfInterrupted();
     const long index = reader.frame_index();
     const double time = reader.timestamp_s();
     cv::Mat result = frame.clone();
     const auto stored = fits.frames.find(index);
-    bool any = false;
+    const bool debug = debug_renderer && debug_choice.Wants(index, time);
+    bool any = false, pictured = false;
     if (stored != fits.frames.end()) {
+      const std::size_t faces = stored->second.faces.size();
       for (const StoredFit& fit : stored->second.faces) {
+        RedirectLayers layers;  // stays empty for a face left as it was: its pictures are the overlay alone
+        RedirectReport report;
+        const auto write_debug = [&] {
+          if (!debug) return;
+          const std::string prefix =
+              fmt::format("frame{:05d}_{}", index, faces > 1 ? fmt::format("face{}_", fit.face_id) : "");
+          WriteDebug(options.debug_dir, prefix, frame, camera, fit.phi, fit.good, layers, report, *debug_renderer, inputs);
+          pictured = true;
+        };
         if (!fit.good) {
           ++untouched;
+          write_debug();
           continue;
         }
         const double weight = weights.at(index).at(fit.face_id);
-        if (weight <= 0) continue;  // a blink: keep the original
+        if (weight <= 0) {  // a blink or an iris off the photo's: keep the original
+          write_debug();
+          continue;
+        }
         const Parameters scripted = script.TargetAt(fit.phi, time);
         const Parameters target = BlendGaze(fit.phi, scripted, weight);
         const auto chosen = environments.find(fit.face_id);
         redirector.options().environment = chosen == environments.end() ? -1 : chosen->second;
-        const RedirectReport report = redirector.Redirect(result, camera, fit.phi, target);
+        report = redirector.Redirect(result, camera, fit.phi, target, debug ? &layers : nullptr);
+        write_debug();
         if (report.redirected[0] || report.redirected[1]) {
           any = true;
           beyond_reach += AtTheEyesReach(scripted) ? 1 : 0;
@@ -421,12 +463,22 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
       }
     }
     redirected_frames += any ? 1 : 0;
+    debugged_frames += pictured ? 1 : 0;
     writer.Write(options.side_by_side ? SideBySide(frame, result) : result, time);
     progress.Update(index + 1);
   }
   progress.Finish();
   WarnIfTruncated(reader, options.input);
   writer.Finish();
+  if (debug_renderer) {
+    const std::vector<long> unseen = debug_choice.ListedAfter(reader.frame_index());
+    if (!unseen.empty()) {
+      spdlog::warn("--debug-frames: the video ends at frame {}, so frame{} {} had no pictures", reader.frame_index(),
+                   unseen.size() == 1 ? "" : "s", fmt::join(unseen, ", "));
+    }
+    spdlog::info("debugging pictures of {} frame{} in {}", debugged_frames, debugged_frames == 1 ? "" : "s",
+                 options.debug_dir);
+  }
   if (beyond_reach > 0) {
     spdlog::warn("for {} redirected face{} across the frames the target lay beyond the eyes' reach ({}); they looked "
                  "as far toward it as they could",
@@ -442,9 +494,8 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
 // Options that mean nothing for this kind of input are said to be ignored
 // rather than dropped silently.
 void WarnOfOptionsForTheOtherKind(const RedirectCommandOptions& options, MediaKind kind) {
-  if (kind == MediaKind::kVideo && !options.debug_dir.empty()) {
-    spdlog::warn("--debug-dir: the debugging pictures are made for images only, so none are written for this video "
-                 "(redirect one of its frames saved as an image to see them)");
+  if (kind == MediaKind::kImage && !options.debug_frames.empty()) {
+    spdlog::warn("--debug-frames chooses a video's frames; an image's debugging pictures are written whatever it lists");
   }
   if (kind == MediaKind::kImage && options.refit) {
     spdlog::warn("--refit: an image is fitted anew on every run unless --fits is given, so it changes nothing here");
@@ -456,7 +507,7 @@ int RunRedirect(const RedirectCommandOptions& options) {
   const MediaKind kind = DetectMediaKind(options.input);
   RequireOutputKind(options.output, "-o", kind, options.input);
   WarnOfOptionsForTheOtherKind(options, kind);
-  if (kind == MediaKind::kImage) RequireWritableFolder(options.debug_dir, "--debug-dir");
+  RequireWritableFolder(options.debug_dir, "--debug-dir");
   if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
     Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
   }
@@ -480,7 +531,16 @@ Command RegisterRedirectCommand(CLI::App& root) {
   app->add_option("--script", options->script, "A JSON timeline of gaze targets (videos)");
   app->add_option("--fits", options->fits, "Fits from `gazedirector track` (perhaps edited) instead of tracking now");
   app->add_flag("--side-by-side", options->side_by_side, "Write the original and the result side by side");
-  app->add_option("--debug-dir", options->debug_dir, "Write the fit overlay, flow field, masks and eyeball layer here (images)");
+  CLI::Option* debug_dir = app->add_option(
+      "--debug-dir", options->debug_dir,
+      "Write the fit overlay, flow field, masks and eyeball layer here (for a video: of the frames --debug-frames "
+      "chooses, named frameNNNNN_...)");
+  app->add_option("--debug-frames", options->debug_frames,
+                  "The video frames (0-based indices, comma-separated) that --debug-dir pictures; default: the first "
+                  "frame of every second")
+      ->delimiter(',')
+      ->check(CLI::NonNegativeNumber)
+      ->needs(debug_dir);
   app->add_flag("--rendered-eyeballs", options->rendered_eyeballs, "Use only rendered eyeballs (the paper), not the photo's own iris");
   app->add_flag("--no-eyelids", options->no_eyelids, "Move only the eyeballs, not the eyelids");
   app->add_flag("--refit", options->refit, "Track the video again even when stored fits exist");
