@@ -10,6 +10,9 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
+#include <fmt/format.h>
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -68,13 +71,51 @@ bool HoldsNoVideoStream(const std::filesystem::path& path) {
   return streams && !streams->empty() && streams->find("video") == std::string::npos;
 }
 
+// OpenCV 4.6's FFmpeg reader gives up on a stream after 512 packets of other
+// streams in a row (a limit fixed in its code), so where a video's audio runs
+// on for ten seconds or so past its last frame, the frames its decoder still
+// holds then are lost (three of an H.264 clip's, one of a VP9 one's).
+constexpr long kMaxPacketsAfterLastFrame = 256;
+
+// How many packets of other streams follow the video stream's last one in the
+// file; 0 where ffprobe is missing or cannot read the file.
+long CountPacketsAfterLastFrame(const std::filesystem::path& video) {
+  if (!ProgramExists("ffprobe")) return 0;
+  const std::optional<std::string> output = RunForOutput(
+      {"ffprobe", "-v", "error", "-show_entries", "packet=codec_type", "-of", "csv=p=0", video.string()});
+  if (!output) return 0;
+  std::istringstream lines(*output);
+  std::string line;
+  long after = 0;
+  while (std::getline(lines, line)) after = line.rfind("video", 0) == 0 ? 0 : after + 1;
+  return after;
+}
+
+// A copy of the video's first video stream alone (no re-encoding), in a
+// temporary file of the same format; empty where ffmpeg cannot make it.
+std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
+  static int counter = 0;
+  const std::filesystem::path copy =
+      std::filesystem::temp_directory_path() /
+      fmt::format("gazedirector-{}-{}-video{}", ::getpid(), counter++, video.extension().string());
+  if (!ProgramExists("ffmpeg") ||
+      !RunForOutput({"ffmpeg", "-nostdin", "-v", "error", "-y", "-i", video.string(), "-map", "0:v:0", "-c", "copy",
+                     copy.string()})) {
+    std::error_code ignored;
+    std::filesystem::remove(copy, ignored);
+    return {};
+  }
+  return copy;
+}
+
 }  // namespace
 
 VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   if (DetectMediaKind(path) != MediaKind::kVideo) Fail(ExitCode::kBadInput, "{}: not a video", path.string());
+  if (CountPacketsAfterLastFrame(path) > kMaxPacketsAfterLastFrame) video_alone_.path = CopyVideoStreamAlone(path);
   capture_ = std::make_unique<cv::VideoCapture>();
   try {
-    capture_->open(path.string(), cv::CAP_FFMPEG);
+    capture_->open((video_alone_.path.empty() ? path : video_alone_.path).string(), cv::CAP_FFMPEG);
   } catch (const cv::Exception& e) {
     Fail(ExitCode::kBadInput, "{}: cannot open the video ({})", path.string(), e.err);
   }
@@ -101,6 +142,11 @@ VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
 }
 
 VideoReader::~VideoReader() = default;
+
+VideoReader::TemporaryFile::~TemporaryFile() {
+  std::error_code ignored;
+  if (!path.empty()) std::filesystem::remove(path, ignored);
+}
 
 bool VideoReader::Read(cv::Mat& frame) {
   if (ended_) return false;

@@ -51,6 +51,15 @@ class VideoReader {
 
  private:
   std::filesystem::path path_;
+  // A file removed when the reader goes, or when its constructor fails.
+  struct TemporaryFile {
+    std::filesystem::path path;
+    ~TemporaryFile();
+  };
+  // Where the video stream is read from a copy of its own (video_reader.cc's
+  // CountPacketsAfterLastFrame says why); declared before capture_, which
+  // closes it first.
+  TemporaryFile video_alone_;
   std::unique_ptr<cv::VideoCapture> capture_;
   VideoInfo info_;
   int counterclockwise_deg_ = 0;  // the display turn the container asks for: 0, 90, 180 or 270
