@@ -73,22 +73,27 @@ bool HoldsNoVideoStream(const std::filesystem::path& path) {
 
 // OpenCV 4.6's FFmpeg reader gives up on a stream after 512 packets of other
 // streams in a row (a limit fixed in its code), so where a video's audio runs
-// on for ten seconds or so past its last frame, the frames its decoder still
-// holds then are lost (three of an H.264 clip's, one of a VP9 one's).
-constexpr long kMaxPacketsAfterLastFrame = 256;
+// on for ten seconds or so past its last frame, or past a frame that stays on
+// screen that long, the reading stopped there: at the end, the frames its
+// decoder still held were lost (three of an H.264 clip's, one of a VP9 one's).
+constexpr long kMostPacketsBetweenFrames = 256;
 
-// How many packets of other streams follow the video stream's last one in the
-// file; 0 where ffprobe is missing or cannot read the file.
-long CountPacketsAfterLastFrame(const std::filesystem::path& video) {
+// The longest run of other streams' packets before, between or after the
+// video stream's packets, in the file's order; 0 where ffprobe is missing or
+// cannot read the file.
+long LongestRunWithoutVideo(const std::filesystem::path& video) {
   if (!ProgramExists("ffprobe")) return 0;
   const std::optional<std::string> output = RunForOutput(
       {"ffprobe", "-v", "error", "-show_entries", "packet=codec_type", "-of", "csv=p=0", video.string()});
   if (!output) return 0;
   std::istringstream lines(*output);
   std::string line;
-  long after = 0;
-  while (std::getline(lines, line)) after = line.rfind("video", 0) == 0 ? 0 : after + 1;
-  return after;
+  long run = 0, longest = 0;
+  while (std::getline(lines, line)) {
+    run = line.rfind("video", 0) == 0 ? 0 : run + 1;
+    longest = std::max(longest, run);
+  }
+  return longest;
 }
 
 // A copy of the video's first video stream alone (no re-encoding), in a
@@ -112,7 +117,7 @@ std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
 
 VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   if (DetectMediaKind(path) != MediaKind::kVideo) Fail(ExitCode::kBadInput, "{}: not a video", path.string());
-  if (CountPacketsAfterLastFrame(path) > kMaxPacketsAfterLastFrame) video_alone_.path = CopyVideoStreamAlone(path);
+  if (LongestRunWithoutVideo(path) > kMostPacketsBetweenFrames) video_alone_.path = CopyVideoStreamAlone(path);
   capture_ = std::make_unique<cv::VideoCapture>();
   try {
     capture_->open((video_alone_.path.empty() ? path : video_alone_.path).string(), cv::CAP_FFMPEG);

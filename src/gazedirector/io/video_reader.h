@@ -57,7 +57,7 @@ class VideoReader {
     ~TemporaryFile();
   };
   // Where the video stream is read from a copy of its own (video_reader.cc's
-  // CountPacketsAfterLastFrame says why); declared before capture_, which
+  // LongestRunWithoutVideo says why); declared before capture_, which
   // closes it first.
   TemporaryFile video_alone_;
   std::unique_ptr<cv::VideoCapture> capture_;

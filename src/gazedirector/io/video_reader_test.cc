@@ -103,8 +103,9 @@ TEST(VideoReaderTest, ASparseVideosSteadyRateIsHeldToFourTimesItsAverage) {
 
 // OpenCV's reader stops after 512 packets of other streams in a row, which
 // lost the last frames of a video whose audio runs on well past them (three of
-// ten here for H.264, one for VP9). Such a video is read from a copy of its
-// video stream, which keeps the frames' turn and times and is removed after.
+// ten here for H.264, one for VP9), and every frame after one held on screen
+// that long. Such a video is read from a copy of its video stream, which keeps
+// the frames' turn and times and is removed after.
 TEST(VideoReaderTest, ReadsEveryFrameOfAVideoWhoseAudioOutlastsIt) {
   ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path dir = ScratchDir("video_reader_long_audio");
@@ -147,6 +148,20 @@ TEST(VideoReaderTest, ReadsEveryFrameOfAVideoWhoseAudioOutlastsIt) {
     ASSERT_EQ(first.size(), expected.size()) << video.name;
     EXPECT_LT(cv::norm(first, expected, cv::NORM_L1) / first.total() / 3, 3.0) << video.name;
   }
+  // The same where a frame stays on screen for 13.7 s mid-video: ten frames, then ten more 14 s in.
+  const fs::path frozen = dir / "frozen.mp4";
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + d10 + " -i " + d10 +
+                       " -map 0:v -map 1:a -vf \"select='lt(n,10)+between(n,420,429)',setpts='if(lt(N,10),N,N+410)/30/TB'\""
+                       " -fps_mode vfr -c:v libx264 -c:a copy " + Quote(frozen)),
+            0);
+  std::vector<double> times;
+  {
+    VideoReader reader(frozen);
+    cv::Mat frame;
+    while (reader.Read(frame)) times.push_back(reader.timestamp_s());
+  }
+  ASSERT_EQ(times.size(), 20u);
+  for (std::size_t i = 0; i < times.size(); ++i) EXPECT_NEAR(times[i], (i < 10 ? i : i + 410) / 30.0, 2e-3) << i;
   EXPECT_EQ(copies_left(), copies_before);
 }
 
