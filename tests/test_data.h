@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -100,5 +101,18 @@ int WriteSelectedFrames(const std::string& video, double seconds, const std::str
                         const std::filesystem::path& out, bool audio = false);
 // True when no temporary ".partial" file is left anywhere under `dir`.
 bool NoPartialFiles(const std::filesystem::path& dir);
+
+// Sets an environment variable for one scope, then puts back what was there.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::optional<std::string>& value);
+  ~ScopedEnv();
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
 
 }  // namespace gazedirector::testing

@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "gazedirector/util/error.h"
+#include "gazedirector/util/temporary_folder.h"
 
 #if !defined(GAZEDIRECTOR_SOURCE_DIR) || !defined(GAZEDIRECTOR_BINARY_DIR)
 #error "GAZEDIRECTOR_SOURCE_DIR and GAZEDIRECTOR_BINARY_DIR must be defined by the build"
@@ -75,7 +76,7 @@ fs::path Assets::CacheDir() {
   if (const char* dir = GetEnv("GAZEDIRECTOR_CACHE")) return dir;
   if (const char* xdg = GetEnv("XDG_CACHE_HOME")) return fs::path(xdg) / "gazedirector";
   if (const char* home = GetEnv("HOME")) return fs::path(home) / ".cache" / "gazedirector";
-  return fs::temp_directory_path() / "gazedirector-cache";
+  return TemporaryFolder() / "gazedirector-cache";
 }
 
 }  // namespace gazedirector

@@ -20,6 +20,7 @@
 #include "gazedirector/io/media.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/subprocess.h"
+#include "gazedirector/util/temporary_folder.h"
 
 namespace gazedirector {
 
@@ -101,7 +102,7 @@ long LongestRunWithoutVideo(const std::filesystem::path& video) {
 std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
   static int counter = 0;
   const std::filesystem::path copy =
-      std::filesystem::temp_directory_path() /
+      TemporaryFolder() /
       fmt::format("gazedirector-{}-{}-video{}", ::getpid(), counter++, video.extension().string());
   if (!ProgramExists("ffmpeg") ||
       !RunForOutput({"ffmpeg", "-nostdin", "-v", "error", "-y", "-i", video.string(), "-map", "0:v:0", "-c", "copy",

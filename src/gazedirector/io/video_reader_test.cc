@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "gazedirector/util/subprocess.h"
+#include "gazedirector/util/temporary_folder.h"
 #include "tests/test_data.h"
 
 namespace gazedirector {
@@ -109,9 +110,11 @@ TEST(VideoReaderTest, ASparseVideosSteadyRateIsHeldToFourTimesItsAverage) {
 TEST(VideoReaderTest, ReadsEveryFrameOfAVideoWhoseAudioOutlastsIt) {
   ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path dir = ScratchDir("video_reader_long_audio");
+  // The copies go to /tmp where $TMPDIR names no folder (it made the reader fail).
+  const testing::ScopedEnv tmpdir("TMPDIR", (dir / "no such folder").string());
   const auto copies_left = [] {
     long copies = 0;
-    for (const auto& entry : fs::directory_iterator(fs::temp_directory_path())) {
+    for (const auto& entry : fs::directory_iterator(TemporaryFolder())) {
       const std::string name = entry.path().filename().string();
       copies += name.rfind("gazedirector-", 0) == 0 && name.find("-video.") != std::string::npos;
     }

@@ -39,6 +39,8 @@ std::string Probe(const fs::path& video, const std::string& entries, bool count_
 TEST(VideoWriterTest, HoldsEachFrameUntilTheNextOnesTimeAndDropsNone) {
   ASSERT_TRUE(ProgramExists("ffmpeg")) << "bash scripts/setup.sh installs ffmpeg";
   const fs::path path = ScratchDir("video_writer") / "variable.mp4";
+  // ffmpeg's messages go to a temporary file, which a $TMPDIR naming no folder made fail.
+  const testing::ScopedEnv tmpdir("TMPDIR", (path.parent_path() / "no such folder").string());
   // 10 fps, then a stretch at 30 fps, a pause of 0.2 s, then 30 fps again.
   const std::vector<double> times = {0, 0.1, 0.2, 0.2333, 0.2667, 0.3, 0.5, 0.5333, 0.5667, 0.6};
   VideoWriter writer(path, VideoWriterOptions{64, 64, FrameRate{30, 1}, {}});
