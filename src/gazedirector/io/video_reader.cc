@@ -1,6 +1,7 @@
 #include "gazedirector/io/video_reader.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -100,7 +101,7 @@ long LongestRunWithoutVideo(const std::filesystem::path& video) {
 // A copy of the video's first video stream alone (no re-encoding), in a
 // temporary file of the same format; empty where ffmpeg cannot make it.
 std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
-  static int counter = 0;
+  static std::atomic<int> counter = 0;
   const std::filesystem::path copy =
       TemporaryFolder() /
       fmt::format("gazedirector-{}-{}-video{}", ::getpid(), counter++, video.extension().string());
