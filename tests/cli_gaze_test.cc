@@ -1,6 +1,7 @@
 // End-to-end tests of `gazedirector track` and `gazedirector redirect` on real photos and videos.
 #include <algorithm>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -568,11 +569,17 @@ TEST(CliGazeTest, VideoRedirectKeepsEveryFrameAndReusesItsFits) {
   const cv::Mat overlay = ReadImage(dir / "debug" / "frame00010_fit_overlay.png");
   EXPECT_EQ(overlay.size(), ReadImage(dir / "debug" / blink).size());
   // A point behind her head: the eyes turn as far toward it as they can, and the command says so once.
+  // Without --debug-frames, ten frames spread from the first to the last get pictures.
   ASSERT_EQ(RunCli("redirect " + Quote(input) + " --fits " + Quote(fits) + " -o " + Quote(dir / "behind.mp4") +
-                       " --look-at 0,0,5000",
+                       " --look-at 0,0,5000 --debug-dir " + Quote(dir / "spread"),
                    &output),
             0)
       << output;
+  std::set<std::string> spread;
+  for (const auto& entry : fs::directory_iterator(dir / "spread")) spread.insert(entry.path().filename().string().substr(0, 10));
+  EXPECT_EQ(spread.size(), 10u) << fmt::format("{}", fmt::join(spread, " "));
+  EXPECT_TRUE(spread.contains("frame00000"));
+  EXPECT_TRUE(spread.contains(fmt::format("frame{:05d}", CountFrames(input) - 1))) << fmt::format("{}", fmt::join(spread, " "));
   const std::string warning = "target lay beyond the eyes' reach";
   const auto warned = output.find(warning);
   ASSERT_NE(warned, std::string::npos) << output;

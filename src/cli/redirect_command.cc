@@ -122,25 +122,24 @@ void WriteDebug(const std::filesystem::path& dir, const std::string& prefix, con
 }
 
 // The video frames that get debugging pictures: those listed (--debug-frames),
-// else the first frame of every second.
+// else ten spread evenly over the video (every frame of a shorter one).
 class DebugFrameChoice {
  public:
-  explicit DebugFrameChoice(const std::vector<long>& listed) : listed_(listed.begin(), listed.end()) {}
-  bool Wants(long index, double time_s) {
-    if (!listed_.empty()) return listed_.contains(index);
-    const long second = static_cast<long>(std::floor(time_s));
-    if (second <= last_second_) return false;
-    last_second_ = second;
-    return true;
+  DebugFrameChoice(const std::vector<long>& listed, long frame_count) : listed_(listed.begin(), listed.end()) {
+    if (!listed_.empty()) return;
+    const long count = std::max(frame_count, 1L);
+    const long chosen = std::min(count, kDefaultFrames);
+    for (long k = 0; k < chosen; ++k) spread_.insert(chosen == 1 ? 0 : std::lround(k * (count - 1.0) / (chosen - 1)));
   }
+  bool Wants(long index) const { return (listed_.empty() ? spread_ : listed_).contains(index); }
   // The listed frames after `last_index`, which the video does not reach.
   std::vector<long> ListedAfter(long last_index) const {
     return {listed_.upper_bound(last_index), listed_.end()};
   }
 
  private:
-  std::set<long> listed_;
-  long last_second_ = -1;
+  static constexpr long kDefaultFrames = 10;
+  std::set<long> listed_, spread_;
 };
 
 std::string EyeList(const std::array<bool, 2>& eyes) {
@@ -414,7 +413,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
   Redirector redirector(setup.model, redirect_options);
   std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
   Progress progress("redirect", info.frame_count, "frames", options.common.quiet);
-  DebugFrameChoice debug_choice(options.debug_frames);
+  DebugFrameChoice debug_choice(options.debug_frames, info.frame_count);
   std::optional<Renderer> debug_renderer;
   if (!options.debug_dir.empty()) debug_renderer.emplace(setup.model);
   cv::Mat frame;
@@ -425,7 +424,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
     const double time = reader.timestamp_s();
     cv::Mat result = frame.clone();
     const auto stored = fits.frames.find(index);
-    const bool debug = debug_renderer && debug_choice.Wants(index, time);
+    const bool debug = debug_renderer && debug_choice.Wants(index);
     bool any = false, pictured = false;
     if (stored != fits.frames.end()) {
       const std::size_t faces = stored->second.faces.size();
@@ -536,8 +535,8 @@ Command RegisterRedirectCommand(CLI::App& root) {
       "Write the fit overlay, flow field, masks and eyeball layer here (for a video: of the frames --debug-frames "
       "chooses, named frameNNNNN_...)");
   app->add_option("--debug-frames", options->debug_frames,
-                  "The video frames (0-based indices, comma-separated) that --debug-dir pictures; default: the first "
-                  "frame of every second")
+                  "The video frames (0-based indices, comma-separated) that --debug-dir pictures; default: ten spread "
+                  "evenly over the video")
       ->delimiter(',')
       ->check(CLI::NonNegativeNumber)
       ->needs(debug_dir);
