@@ -1,7 +1,6 @@
 #include "gazedirector/io/video_reader.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -11,9 +10,6 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
-
-#include <fmt/format.h>
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -101,10 +97,7 @@ long LongestRunWithoutVideo(const std::filesystem::path& video) {
 // A copy of the video's first video stream alone (no re-encoding), in a
 // temporary file of the same format; empty where ffmpeg cannot make it.
 std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
-  static std::atomic<int> counter = 0;
-  const std::filesystem::path copy =
-      TemporaryFolder() /
-      fmt::format("gazedirector-{}-{}-video{}", ::getpid(), counter++, video.extension().string());
+  const std::filesystem::path copy = UniqueTemporaryPath("-video" + video.extension().string());
   if (!ProgramExists("ffmpeg") ||
       !RunForOutput({"ffmpeg", "-nostdin", "-v", "error", "-y", "-i", video.string(), "-map", "0:v:0", "-c", "copy",
                      copy.string()})) {

@@ -25,8 +25,7 @@ Subprocess::Subprocess(const std::vector<std::string>& argv) {
   ::signal(SIGPIPE, SIG_IGN);
   int pipe_fds[2];
   if (::pipe(pipe_fds) != 0) Fail(ExitCode::kInternal, "cannot create a pipe for {}", argv.at(0));
-  static int counter = 0;
-  stderr_path_ = TemporaryFolder() / ("gazedirector-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".log");
+  stderr_path_ = UniqueTemporaryPath(".log");
 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 namespace gazedirector {
 
@@ -8,5 +9,9 @@ namespace gazedirector {
 // reads it) where that is a folder, else /tmp. A $TMPDIR that names no folder
 // made every video command fail with an internal filesystem error.
 std::filesystem::path TemporaryFolder();
+
+// A path in TemporaryFolder() that no other temporary file of this process
+// takes: "gazedirector-<pid>-<n><suffix>". Nothing is created there.
+std::filesystem::path UniqueTemporaryPath(const std::string& suffix);
 
 }  // namespace gazedirector
