@@ -4,8 +4,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
+#include <tuple>
 #include <string>
 #include <utility>
 #include <vector>
@@ -94,6 +97,24 @@ long LongestRunWithoutVideo(const std::filesystem::path& video) {
   return longest;
 }
 
+// LongestRunWithoutVideo, asked once per file and process: a command may read
+// its input more than once (redirect tracks it, then renders it).
+long LongestRunWithoutVideoOnce(const std::filesystem::path& video) {
+  std::error_code ec;
+  const auto key = std::make_tuple(std::filesystem::absolute(video, ec).string(), std::filesystem::file_size(video, ec),
+                                   std::filesystem::last_write_time(video, ec).time_since_epoch().count());
+  static std::mutex mutex;
+  static std::map<decltype(key), long> runs;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto known = runs.find(key); known != runs.end()) return known->second;
+  }
+  const long run = LongestRunWithoutVideo(video);
+  const std::lock_guard<std::mutex> lock(mutex);
+  runs[key] = run;
+  return run;
+}
+
 // A copy of the video's first video stream alone (no re-encoding), in a
 // temporary file of the same format; empty where ffmpeg cannot make it.
 std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
@@ -112,7 +133,7 @@ std::filesystem::path CopyVideoStreamAlone(const std::filesystem::path& video) {
 
 VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   if (DetectMediaKind(path) != MediaKind::kVideo) Fail(ExitCode::kBadInput, "{}: not a video", path.string());
-  if (LongestRunWithoutVideo(path) > kMostPacketsBetweenFrames) video_alone_.path = CopyVideoStreamAlone(path);
+  if (LongestRunWithoutVideoOnce(path) > kMostPacketsBetweenFrames) video_alone_.path = CopyVideoStreamAlone(path);
   capture_ = std::make_unique<cv::VideoCapture>();
   try {
     capture_->open((video_alone_.path.empty() ? path : video_alone_.path).string(), cv::CAP_FFMPEG);
