@@ -125,21 +125,24 @@ void WriteDebug(const std::filesystem::path& dir, const std::string& prefix, con
 // else ten spread evenly over the video (every frame of a shorter one).
 class DebugFrameChoice {
  public:
-  DebugFrameChoice(const std::vector<long>& listed, long frame_count) : listed_(listed.begin(), listed.end()) {
-    if (!listed_.empty()) return;
+  DebugFrameChoice(const std::vector<long>& listed, long frame_count)
+      : frames_(listed.begin(), listed.end()), listed_(!listed.empty()) {
+    if (listed_) return;
     const long count = std::max(frame_count, 1L);
     const long chosen = std::min(count, kDefaultFrames);
-    for (long k = 0; k < chosen; ++k) spread_.insert(chosen == 1 ? 0 : std::lround(k * (count - 1.0) / (chosen - 1)));
+    for (long k = 0; k < chosen; ++k) frames_.insert(chosen == 1 ? 0 : std::lround(k * (count - 1.0) / (chosen - 1)));
   }
-  bool Wants(long index) const { return (listed_.empty() ? spread_ : listed_).contains(index); }
+  bool Wants(long index) const { return frames_.contains(index); }
   // The listed frames after `last_index`, which the video does not reach.
   std::vector<long> ListedAfter(long last_index) const {
-    return {listed_.upper_bound(last_index), listed_.end()};
+    if (!listed_) return {};
+    return {frames_.upper_bound(last_index), frames_.end()};
   }
 
  private:
   static constexpr long kDefaultFrames = 10;
-  std::set<long> listed_, spread_;
+  std::set<long> frames_;
+  bool listed_;
 };
 
 std::string EyeList(const std::array<bool, 2>& eyes) {
