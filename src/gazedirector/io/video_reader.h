@@ -6,6 +6,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "gazedirector/io/video_probe.h"
+
 namespace cv {
 class VideoCapture;
 }
@@ -57,7 +59,7 @@ class VideoReader {
     ~TemporaryFile();
   };
   // Where the video stream is read from a copy of its own (video_reader.cc's
-  // LongestRunWithoutVideo says why); declared before capture_, which
+  // kMostPacketsBetweenFrames says why); declared before capture_, which
   // closes it first.
   TemporaryFile video_alone_;
   std::unique_ptr<cv::VideoCapture> capture_;
@@ -76,21 +78,5 @@ class VideoReader {
 // with ffprobe; the stated rate where ffprobe is missing or the times cannot
 // be read.
 FrameRate SteadyFrameRate(const std::filesystem::path& video, const VideoInfo& info);
-
-// How a video's stored colour values are to be shown: the YUV matrix, the
-// transfer curve and the primaries, as ffmpeg names them ("bt709", ...);
-// empty where the file does not say (players then guess).
-struct ColourTags {
-  std::string matrix, transfer, primaries;
-  bool operator==(const ColourTags&) const = default;
-};
-
-// The colour tags of a video's first video stream, read with ffprobe; only
-// names ffmpeg accepts back are kept. Empty without ffprobe.
-ColourTags ProbeColourTags(const std::filesystem::path& video);
-
-// The codec of a video's first audio stream as ffmpeg names it ("aac",
-// "opus", ...); empty where it has none, or without ffprobe.
-std::string ProbeAudioCodec(const std::filesystem::path& video);
 
 }  // namespace gazedirector

@@ -40,8 +40,9 @@ VideoWriterOptions WriterOptionsFor(const fs::path& source, const VideoInfo& inf
   options.height = info.height;
   options.frame_rate = SteadyFrameRate(source, info);
   options.source = source;
-  options.colour = ProbeColourTags(source);
-  options.source_audio_codec = ProbeAudioCodec(source);
+  const VideoProbe probe = ProbeVideo(source);
+  options.colour = probe.colour;
+  options.source_audio_codec = probe.audio_codec;
   return options;
 }
 

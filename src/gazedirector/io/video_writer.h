@@ -22,7 +22,7 @@ struct VideoWriterOptions {
   // the output's container takes its codec (else converted: Opus for WebM,
   // AAC otherwise), and its metadata (creation time, place, ...) too, when set.
   std::filesystem::path source;
-  std::string source_audio_codec = {};  // ProbeAudioCodec(source)
+  std::string source_audio_codec = {};  // ProbeVideo(source).audio_codec
   // Written into the output (not GIF) so that players show its colours as the
   // source's: frames are read and written with the same matrix, so the tags
   // of the source describe the output's values too.

@@ -88,7 +88,7 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsColours) {
     }
     writer.Finish();
   }
-  EXPECT_EQ(ProbeColourTags(path), options.colour);
+  EXPECT_EQ(ProbeVideo(path).colour, options.colour);
   VideoReader again(path);
   cv::Mat frame;
   cv::Scalar difference;
@@ -101,7 +101,7 @@ TEST(VideoWriterTest, AVideoWrittenAgainKeepsItsColours) {
   // What is left is the reader's own rounding (OpenCV decodes with swscale's
   // fast path), about a grey level.
   for (int channel = 0; channel < 3; ++channel) EXPECT_LT(std::abs(difference[channel]), 1.6) << channel;
-  EXPECT_EQ(ProbeColourTags(testing::DataPath("video/d3.mp4")), ColourTags{});  // untagged: left so
+  EXPECT_EQ(ProbeVideo(testing::DataPath("video/d3.mp4")).colour, ColourTags{});  // untagged: left so
 }
 
 // The source's audio and the container's metadata (d10.mp4's creation time)
@@ -157,8 +157,8 @@ TEST(VideoWriterTest, AWebmOutputKeepsItsFramesAndAudioAndAnyContainerTakesItsAu
   }
   EXPECT_EQ(count, frames.size());
 
-  EXPECT_EQ(ProbeAudioCodec(source), "aac");
-  EXPECT_EQ(ProbeAudioCodec(path), "opus");
+  EXPECT_EQ(ProbeVideo(source).audio_codec, "aac");
+  EXPECT_EQ(ProbeVideo(path).audio_codec, "opus");
   // Written again as QuickTime, whose container takes no Opus: the audio becomes AAC.
   const fs::path mov = dir / "from_web.mov";
   {
