@@ -22,6 +22,7 @@
 #include "gazedirector/io/text_writer.h"
 #include "gazedirector/io/video_reader.h"
 #include "gazedirector/io/video_writer.h"
+#include "gazedirector/video/tracked_frame_reader.h"
 #include "gazedirector/redirect/gaze_script.h"
 #include "gazedirector/redirect/redirector.h"
 #include "gazedirector/util/error.h"
@@ -287,22 +288,22 @@ FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& s
   Renderer renderer(setup.model);
   TextWriter json(fits_path, inputs);
   Progress progress("track", reader.info().frame_count, "frames", options.common.quiet);
-  cv::Mat frame;
   std::size_t frames = 0;
   bool any_face = false;
-  while (reader.Read(frame)) {
+  TrackedFrameReader tracked_frames(reader, tracker, camera);
+  TrackedFrame frame;
+  while (tracked_frames.Next(frame)) {
     ++frames;
     ThrowIfInterrupted();
-    const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
+    const std::vector<FaceFit> fits = tracker.FitFaces(frame.image, frame.timestamp_s, camera, frame.faces);
     any_face = any_face || !fits.empty();
     std::vector<StoredFit> stored;
     for (const FaceFit& fit : fits) stored.push_back(StoredFit::Of(fit));
-    AddFitsWithIrisOff(options, frame, reader.frame_index(), stored, camera, renderer, iris_off);
-    nlohmann::json record = FrameRecord(reader.frame_index(), reader.timestamp_s(), fits,
-                                        reader.frame_index() == 0 ? &camera : nullptr);
-    if (reader.frame_index() == 0) record["source"] = InputSignature(options.input);
+    AddFitsWithIrisOff(options, frame.image, frame.index, stored, camera, renderer, iris_off);
+    nlohmann::json record = FrameRecord(frame.index, frame.timestamp_s, fits, frame.index == 0 ? &camera : nullptr);
+    if (frame.index == 0) record["source"] = InputSignature(options.input);
     json.stream() << record.dump() << '\n';
-    progress.Update(reader.frame_index() + 1);
+    progress.Update(frame.index + 1);
   }
   progress.Finish();
   if (!any_face) FailNoFaceInVideo(frames, options.input);

@@ -23,6 +23,7 @@
 #include "gazedirector/util/interrupt.h"
 #include "gazedirector/util/progress.h"
 #include "gazedirector/viz/draw_face.h"
+#include "gazedirector/video/tracked_frame_reader.h"
 #include "gazedirector/viz/draw_fit.h"
 
 namespace gazedirector::cli {
@@ -135,13 +136,15 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
   }
   Renderer renderer(setup.model);
   Progress progress("track", info.frame_count, "frames", options.common.quiet);
-  cv::Mat frame;
   long frames_with_faces = 0, poor_fits = 0, fits_made = 0;
-  while (reader.Read(frame)) {
+  TrackedFrameReader tracked_frames(reader, tracker, camera);
+  TrackedFrame tracked;
+  while (tracked_frames.Next(tracked)) {
     ThrowIfInterrupted();
-    const long index = reader.frame_index();
-    const double timestamp = reader.timestamp_s();
-    const std::vector<FaceFit> fits = tracker.ProcessFrame(frame, timestamp, camera);
+    cv::Mat& frame = tracked.image;
+    const long index = tracked.index;
+    const double timestamp = tracked.timestamp_s;
+    const std::vector<FaceFit> fits = tracker.FitFaces(frame, timestamp, camera, tracked.faces);
     frames_with_faces += fits.empty() ? 0 : 1;
     for (const FaceFit& fit : fits) poor_fits += fit.fit.good ? 0 : 1, ++fits_made;
     json.stream() << FrameRecord(index, timestamp, fits, index == 0 ? &camera : nullptr).dump() << '\n';

@@ -9,6 +9,7 @@
 #include "gazedirector/redirect/redirector.h"
 #include "gazedirector/render/renderer.h"
 #include "gazedirector/video/gaze_tracker.h"
+#include "gazedirector/video/tracked_frame_reader.h"
 #include "gazedirector/util/timer.h"
 
 namespace gazedirector {
@@ -107,12 +108,15 @@ double MeasureTrackFps(std::shared_ptr<const EyeRegionModel> model, std::shared_
   Timer timer;
   VideoReader reader(video);
   const Camera camera = Camera::Default(reader.info().width, reader.info().height);
-  cv::Mat frame;
   long frames = 0;
-  while (frames < max_frames && reader.Read(frame)) {
-    tracker.ProcessFrame(frame, reader.timestamp_s(), camera);
-    ++frames;
-  }
+  {
+    TrackedFrameReader tracked_frames(reader, tracker, camera);
+    TrackedFrame frame;
+    while (frames < max_frames && tracked_frames.Next(frame)) {
+      tracker.FitFaces(frame.image, frame.timestamp_s, camera, frame.faces);
+      ++frames;
+    }
+  }  // with the frame read ahead
   return frames / timer.Seconds();
 }
 

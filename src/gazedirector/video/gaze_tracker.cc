@@ -110,9 +110,18 @@ GazeTracker::FreshFit GazeTracker::FitFresh(const cv::Mat& image, const Camera& 
 }
 
 std::vector<FaceFit> GazeTracker::ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera) {
+  return FitFaces(frame, timestamp_s, camera, TrackFaces(frame, timestamp_s, camera));
+}
+
+std::vector<Face> GazeTracker::TrackFaces(const cv::Mat& frame, double timestamp_s, const Camera& camera) {
+  return faces_.TrackFrame(frame, timestamp_s, camera);
+}
+
+std::vector<FaceFit> GazeTracker::FitFaces(const cv::Mat& frame, double timestamp_s, const Camera& camera,
+                                           const std::vector<Face>& faces) {
   std::vector<FaceFit> fits;
   std::map<int, History> still_here;
-  for (const Face& face : faces_.TrackFrame(frame, timestamp_s, camera)) {
+  for (const Face& face : faces) {
     History& history = histories_[face.id];
     fits.push_back(Fit(frame, camera, face, &history, timestamp_s));
     still_here[face.id] = history;

@@ -68,7 +68,14 @@ class GazeTracker {
               std::shared_ptr<ThreadPool> pool = nullptr, bool largest_only = false);
 
   std::vector<FaceFit> ProcessImage(const cv::Mat& image, const Camera& camera);
+  // TrackFaces, then FitFaces.
   std::vector<FaceFit> ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera);
+  // A video frame's two stages. They touch separate state (the face tracker;
+  // the faces' fits), so one thread may track a frame's faces while another
+  // fits the previous frame's (TrackedFrameReader), frames in order in each.
+  std::vector<Face> TrackFaces(const cv::Mat& frame, double timestamp_s, const Camera& camera);
+  std::vector<FaceFit> FitFaces(const cv::Mat& frame, double timestamp_s, const Camera& camera,
+                                const std::vector<Face>& faces);
   void Reset();
 
  private:
