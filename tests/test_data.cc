@@ -14,6 +14,8 @@
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include "gazedirector/eval/columbia.h"
 #include "gazedirector/io/image_io.h"
@@ -178,5 +180,15 @@ ScopedEnv::~ScopedEnv() {
     ::unsetenv(name_);
   }
 }
+
+CapturedLog::CapturedLog() : previous_(spdlog::default_logger()) {
+  auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(text_);
+  sink->set_pattern("%v");
+  auto logger = std::make_shared<spdlog::logger>("captured", sink);
+  logger->set_level(spdlog::level::info);
+  spdlog::set_default_logger(logger);
+}
+
+CapturedLog::~CapturedLog() { spdlog::set_default_logger(previous_); }
 
 }  // namespace gazedirector::testing

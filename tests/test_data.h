@@ -3,10 +3,12 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <spdlog/logger.h>
 
 #include "gazedirector/face/face_tracker.h"
 #include "gazedirector/face/landmark_detector.h"
@@ -113,6 +115,20 @@ class ScopedEnv {
  private:
   const char* name_;
   std::optional<std::string> old_;
+};
+
+// Routes the log (info and above, messages only) into a string for one scope.
+class CapturedLog {
+ public:
+  CapturedLog();
+  ~CapturedLog();
+  CapturedLog(const CapturedLog&) = delete;
+  CapturedLog& operator=(const CapturedLog&) = delete;
+  std::string text() const { return text_.str(); }
+
+ private:
+  std::ostringstream text_;
+  std::shared_ptr<spdlog::logger> previous_;
 };
 
 }  // namespace gazedirector::testing

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 #include "gazedirector/io/media.h"
 #include "gazedirector/util/error.h"
 
@@ -71,6 +73,12 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoWriterOptions& options
     argv.insert(argv.end(), {"-vf", "split[a][b];[a]palettegen=stats_mode=diff[p];[b][p]paletteuse=dither=bayer"});
   } else {
     const bool even = options.width % 2 == 0 && options.height % 2 == 0;
+    // 4:2:0 colour halves each side, so an odd side cannot be kept in it.
+    if (!even) {
+      spdlog::warn("{}: the frames are {}x{}, an odd size, so the video is written with full colour resolution "
+                   "(4:4:4), which some players (web browsers, QuickTime) do not play",
+                   path.string(), options.width, options.height);
+    }
     // swscale's default RGB to YUV conversion truncates: frames came out about
     // 1 grey level darker than they went in, and 2 after decoding.
     if (webm) {

@@ -1,8 +1,10 @@
 #include "gazedirector/io/video_writer.h"
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
@@ -63,6 +65,23 @@ TEST(VideoWriterTest, GivesFramesThatComeSoonerThanOneStepEachAFrame) {
   for (int i = 0; i < static_cast<int>(times.size()); ++i) writer.Write(NumberedFrame(i), times[i]);
   writer.Finish();
   EXPECT_EQ(ShownNumbers(path), (std::vector<int>{0, 1, 2, 3}));
+}
+
+// 4:2:0 colour cannot hold an odd side, so such a video keeps its size in
+// 4:4:4, and says that some players will not play it.
+TEST(VideoWriterTest, AnOddSizedVideoKeepsItsSizeAndWarnsOfItsPlayers) {
+  ASSERT_TRUE(ProgramExists("ffmpeg") && ProgramExists("ffprobe")) << "bash scripts/setup.sh installs ffmpeg";
+  const fs::path dir = ScratchDir("video_writer");
+  for (const auto& [name, width, height] : {std::tuple{"odd.mp4", 33, 17}, {"odd.webm", 32, 17}, {"even.mp4", 32, 18}}) {
+    const testing::CapturedLog log;
+    VideoWriter writer(dir / name, VideoWriterOptions{width, height, FrameRate{10, 1}, {}});
+    for (int i = 0; i < 3; ++i) writer.Write(cv::Mat(height, width, CV_8UC3, cv::Scalar::all(20 * i)), i / 10.0);
+    writer.Finish();
+    const bool odd = width % 2 != 0 || height % 2 != 0;
+    EXPECT_EQ(Probe(dir / name, "stream=width,height,pix_fmt"),
+              fmt::format("{},{},{}\n", width, height, odd ? "yuv444p" : "yuv420p")) << name;
+    EXPECT_EQ(log.text().find("some players") != std::string::npos, odd) << name << ": " << log.text();
+  }
 }
 
 // Frames read from a real video and written again keep their colours: the
