@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <functional>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,7 @@
 #include "gazedirector/face/turned_crop.h"
 #include "gazedirector/io/atomic_output.h"
 #include "gazedirector/io/binary_io.h"
+#include "gazedirector/io/mapped_file.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -23,31 +27,92 @@ namespace fs = std::filesystem;
 
 // dlib's shape_predictor rounds its output to whole pixels, which costs
 // accuracy and makes video landmarks jitter. The model is read here with
-// dlib's own deserialisers into the same parts and evaluated with dlib's own
-// feature extraction and trees, keeping the sub-pixel positions.
+// dlib's own deserialisers and evaluated with dlib's own feature extraction,
+// its trees walked as dlib walks them, keeping the sub-pixel positions.
+//
+// The trees are kept flat, not as dlib's 120,000 leaf vectors: a cached copy
+// is mapped and its leaves used where they lie, so a process pages in only the
+// leaves its faces reach instead of allocating and copying 65 MB.
 struct LandmarkDetector::Impl {
+  // One level of the cascade: its feature pixels and its regression trees.
+  // Tree t's splits are splits[first_split[t] .. first_split[t + 1]) in
+  // dlib's order (node i's children are 2i + 1 and 2i + 2); it has one leaf
+  // more than splits, each leaf a shape update of initial_shape.size()
+  // values, after the leaves of the trees before it.
+  struct Level {
+    std::vector<unsigned long> anchor_idx;
+    std::vector<dlib::vector<float, 2>> deltas;
+    std::vector<dlib::impl::split_feature> splits;
+    std::vector<uint64_t> first_split;
+    std::span<const float> leaves;  // in owned_leaves or the mapped cache
+  };
+
   dlib::matrix<float, 0, 1> initial_shape;
-  std::vector<std::vector<dlib::impl::regression_tree>> forests;
-  std::vector<std::vector<unsigned long>> anchor_idx;
-  std::vector<std::vector<dlib::vector<float, 2>>> deltas;
+  std::vector<Level> levels;
+  std::vector<std::vector<float>> owned_leaves;
+  std::optional<MappedFile> cache;
+
+  void AddTreeUpdates(const Level& level, const std::vector<float>& features, dlib::matrix<float, 0, 1>& shape) const;
 };
+
+void LandmarkDetector::Impl::AddTreeUpdates(const Level& level, const std::vector<float>& features,
+                                            dlib::matrix<float, 0, 1>& shape) const {
+  const std::size_t values = static_cast<std::size_t>(shape.size());
+  for (std::size_t t = 0; t + 1 < level.first_split.size(); ++t) {
+    const dlib::impl::split_feature* splits = level.splits.data() + level.first_split[t];
+    const std::size_t count = level.first_split[t + 1] - level.first_split[t];
+    std::size_t node = 0;
+    while (node < count) {
+      const dlib::impl::split_feature& split = splits[node];
+      node = features[split.idx1] - features[split.idx2] > split.thresh ? 2 * node + 1 : 2 * node + 2;
+    }
+    const float* leaf = level.leaves.data() + (level.first_split[t] + t + node - count) * values;
+    for (std::size_t i = 0; i < values; ++i) shape(static_cast<long>(i)) += leaf[i];
+  }
+}
 
 LandmarkDetector::LandmarkDetector(const std::filesystem::path& model_path) : impl_(std::make_unique<Impl>()) {
   std::ifstream stream(model_path, std::ios::binary);
   if (!stream) Fail(ExitCode::kAssets, "cannot read the landmark model {}", model_path.string());
+  std::vector<std::vector<dlib::impl::regression_tree>> forests;
+  std::vector<std::vector<unsigned long>> anchor_idx;
+  std::vector<std::vector<dlib::vector<float, 2>>> deltas;
   try {
     int version = 0;
     dlib::deserialize(version, stream);
     if (version != 1) Fail(ExitCode::kAssets, "{}: not a dlib shape predictor (version {})", model_path.string(), version);
     dlib::deserialize(impl_->initial_shape, stream);
-    dlib::deserialize(impl_->forests, stream);
-    dlib::deserialize(impl_->anchor_idx, stream);
-    dlib::deserialize(impl_->deltas, stream);
+    dlib::deserialize(forests, stream);
+    dlib::deserialize(anchor_idx, stream);
+    dlib::deserialize(deltas, stream);
   } catch (const dlib::serialization_error& e) {
     Fail(ExitCode::kAssets, "cannot load the landmark model {}: {}", model_path.string(), e.what());
   }
-  if (impl_->initial_shape.size() != 2 * kNumLandmarks || impl_->forests.size() != impl_->deltas.size()) {
+  const long values = impl_->initial_shape.size();
+  const bool trees_whole = std::all_of(forests.begin(), forests.end(), [&](const auto& trees) {
+    return std::all_of(trees.begin(), trees.end(), [&](const dlib::impl::regression_tree& tree) {
+      return tree.leaf_values.size() == tree.splits.size() + 1 &&
+             std::all_of(tree.leaf_values.begin(), tree.leaf_values.end(), [&](const auto& leaf) { return leaf.size() == values; });
+    });
+  });
+  if (values != 2 * kNumLandmarks || forests.size() != deltas.size() || forests.size() != anchor_idx.size() ||
+      !trees_whole) {
     Fail(ExitCode::kAssets, "{} is not a 68-point landmark model", model_path.string());
+  }
+  impl_->levels.reserve(forests.size());
+  impl_->owned_leaves.reserve(forests.size());
+  for (std::size_t l = 0; l < forests.size(); ++l) {
+    Impl::Level& level = impl_->levels.emplace_back();
+    level.anchor_idx = std::move(anchor_idx[l]);
+    level.deltas = std::move(deltas[l]);
+    std::vector<float>& leaves = impl_->owned_leaves.emplace_back();
+    level.first_split.push_back(0);
+    for (const dlib::impl::regression_tree& tree : forests[l]) {
+      level.splits.insert(level.splits.end(), tree.splits.begin(), tree.splits.end());
+      level.first_split.push_back(level.splits.size());
+      for (const auto& leaf : tree.leaf_values) leaves.insert(leaves.end(), leaf.begin(), leaf.end());
+    }
+    level.leaves = leaves;
   }
 }
 
@@ -56,7 +121,7 @@ LandmarkDetector::~LandmarkDetector() = default;
 
 namespace {
 
-constexpr char kCacheMagic[8] = {'G', 'D', 'L', 'M', 'K', '0', '0', '1'};
+constexpr char kCacheMagic[8] = {'G', 'D', 'L', 'M', 'K', '0', '0', '2'};
 constexpr uint64_t kMaxCount = uint64_t{1} << 28;
 
 std::string ModelFingerprint(const fs::path& model) {
@@ -82,8 +147,9 @@ std::shared_ptr<const LandmarkDetector> LandmarkDetector::Load(const fs::path& m
   return detector;
 }
 
-// Per cascade level: the feature pixels' anchors and offsets, then every
-// tree's splits and leaves as flat arrays with per-tree counts.
+// Per cascade level: the feature pixels' anchors and offsets, each tree's
+// first split, the splits' pixel pairs and thresholds, then the leaves,
+// aligned to be used where they lie in the mapped file.
 void LandmarkDetector::SaveCache(const fs::path& path, const std::string& fingerprint) const {
   AtomicOutput output(path);
   {
@@ -91,25 +157,22 @@ void LandmarkDetector::SaveCache(const fs::path& path, const std::string& finger
     out.write(kCacheMagic, sizeof kCacheMagic);
     WriteVector(out, std::vector<char>(fingerprint.begin(), fingerprint.end()));
     WriteVector(out, std::vector<float>(impl_->initial_shape.begin(), impl_->initial_shape.end()));
-    WriteVector(out, std::vector<uint64_t>{impl_->forests.size()});
-    for (std::size_t level = 0; level < impl_->forests.size(); ++level) {
-      WriteVector(out, std::vector<uint64_t>(impl_->anchor_idx[level].begin(), impl_->anchor_idx[level].end()));
+    WriteVector(out, std::vector<uint64_t>{impl_->levels.size()});
+    for (const Impl::Level& level : impl_->levels) {
+      WriteVector(out, std::vector<uint64_t>(level.anchor_idx.begin(), level.anchor_idx.end()));
       std::vector<float> deltas;
-      for (const auto& d : impl_->deltas[level]) deltas.insert(deltas.end(), {d.x(), d.y()});
+      for (const auto& d : level.deltas) deltas.insert(deltas.end(), {d.x(), d.y()});
       WriteVector(out, deltas);
-      std::vector<uint64_t> split_counts, leaf_counts, first, second;
-      std::vector<float> thresholds, leaves;
-      for (const dlib::impl::regression_tree& tree : impl_->forests[level]) {
-        split_counts.push_back(tree.splits.size());
-        for (const auto& split : tree.splits) {
-          first.push_back(split.idx1), second.push_back(split.idx2), thresholds.push_back(split.thresh);
-        }
-        leaf_counts.push_back(tree.leaf_values.size());
-        for (const auto& leaf : tree.leaf_values) leaves.insert(leaves.end(), leaf.begin(), leaf.end());
+      std::vector<uint64_t> first, second;
+      std::vector<float> thresholds;
+      for (const auto& split : level.splits) {
+        first.push_back(split.idx1), second.push_back(split.idx2), thresholds.push_back(split.thresh);
       }
-      for (const auto* counts : {&split_counts, &first, &second, &leaf_counts}) WriteVector(out, *counts);
+      WriteVector(out, level.first_split);
+      WriteVector(out, first);
+      WriteVector(out, second);
       WriteVector(out, thresholds);
-      WriteVector(out, leaves);
+      WriteAlignedVector(out, std::vector<float>(level.leaves.begin(), level.leaves.end()));
     }
     if (!out) Fail(ExitCode::kOutput, "cannot write {}", path.string());
   }
@@ -117,63 +180,46 @@ void LandmarkDetector::SaveCache(const fs::path& path, const std::string& finger
 }
 
 bool LandmarkDetector::TryLoadCache(const fs::path& path, const std::string& fingerprint) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  char magic[sizeof kCacheMagic];
-  in.read(magic, sizeof magic);
-  if (!in || !std::equal(magic, magic + sizeof magic, kCacheMagic)) return false;
+  std::optional<MappedFile> file = MappedFile::Open(path);
+  if (!file) return false;
+  std::span<const std::byte> rest = file->bytes();
+  if (rest.size() < sizeof kCacheMagic || std::memcmp(rest.data(), kCacheMagic, sizeof kCacheMagic) != 0) return false;
+  rest = rest.subspan(sizeof kCacheMagic);
   std::vector<char> stored;
-  if (!ReadVector(in, stored, 4096) || std::string(stored.begin(), stored.end()) != fingerprint) return false;
+  if (!ReadVector(rest, stored, 4096) || std::string(stored.begin(), stored.end()) != fingerprint) return false;
   std::vector<float> initial;
   std::vector<uint64_t> levels;
-  if (!ReadVector(in, initial, 1024) || initial.size() != 2 * kNumLandmarks) return false;
-  if (!ReadVector(in, levels, 1) || levels.size() != 1 || levels[0] == 0 || levels[0] > 1000) return false;
+  if (!ReadVector(rest, initial, 1024) || initial.size() != 2 * kNumLandmarks) return false;
+  if (!ReadVector(rest, levels, 1) || levels.size() != 1 || levels[0] == 0 || levels[0] > 1000) return false;
   impl_->initial_shape.set_size(static_cast<long>(initial.size()));
   std::copy(initial.begin(), initial.end(), impl_->initial_shape.begin());
-  impl_->forests.resize(levels[0]);
-  impl_->anchor_idx.resize(levels[0]);
-  impl_->deltas.resize(levels[0]);
-  for (std::size_t level = 0; level < levels[0]; ++level) {
-    std::vector<uint64_t> anchors, split_counts, first, second, leaf_counts;
-    std::vector<float> deltas, thresholds, leaves;
-    if (!ReadVector(in, anchors, kMaxCount) || !ReadVector(in, deltas, kMaxCount) || deltas.size() != 2 * anchors.size() ||
-        !ReadVector(in, split_counts, kMaxCount) || !ReadVector(in, first, kMaxCount) ||
-        !ReadVector(in, second, kMaxCount) || !ReadVector(in, leaf_counts, kMaxCount) ||
-        !ReadVector(in, thresholds, kMaxCount) || !ReadVector(in, leaves, kMaxCount)) {
+  impl_->levels.resize(levels[0]);
+  for (Impl::Level& level : impl_->levels) {
+    std::vector<uint64_t> anchors, first, second;
+    std::vector<float> deltas, thresholds;
+    if (!ReadVector(rest, anchors, kMaxCount) || !ReadVector(rest, deltas, kMaxCount) ||
+        deltas.size() != 2 * anchors.size() || !ReadVector(rest, level.first_split, kMaxCount) ||
+        !ReadVector(rest, first, kMaxCount) || !ReadVector(rest, second, kMaxCount) ||
+        !ReadVector(rest, thresholds, kMaxCount) || !ViewAlignedVector(rest, level.leaves, kMaxCount)) {
       return false;
     }
-    // A damaged copy must not index outside the feature pixels or the shape.
+    // A damaged copy must not index outside the feature pixels, the splits or the leaves.
     const uint64_t pixels = anchors.size();
     const bool inside = std::all_of(anchors.begin(), anchors.end(), [](uint64_t a) { return a < kNumLandmarks; }) &&
                         std::all_of(first.begin(), first.end(), [&](uint64_t i) { return i < pixels; }) &&
                         std::all_of(second.begin(), second.end(), [&](uint64_t i) { return i < pixels; });
-    if (!inside || first.size() != second.size() || first.size() != thresholds.size() ||
-        split_counts.size() != leaf_counts.size()) {
+    const std::vector<uint64_t>& bounds = level.first_split;
+    const std::size_t trees = bounds.empty() ? 0 : bounds.size() - 1;
+    if (!inside || first.size() != second.size() || first.size() != thresholds.size() || bounds.empty() ||
+        bounds.front() != 0 || !std::is_sorted(bounds.begin(), bounds.end()) || bounds.back() != first.size() ||
+        level.leaves.size() != (first.size() + trees) * initial.size()) {
       return false;
     }
-    impl_->anchor_idx[level].assign(anchors.begin(), anchors.end());
-    for (std::size_t i = 0; i < anchors.size(); ++i) impl_->deltas[level].emplace_back(deltas[2 * i], deltas[2 * i + 1]);
-    std::vector<dlib::impl::regression_tree>& trees = impl_->forests[level];
-    trees.resize(split_counts.size());
-    std::size_t split = 0, value = 0;
-    for (std::size_t t = 0; t < trees.size(); ++t) {
-      // dlib's trees are full: one leaf more than splits.
-      if (leaf_counts[t] != split_counts[t] + 1 || split + split_counts[t] > first.size() ||
-          value + leaf_counts[t] * initial.size() > leaves.size()) {
-        return false;
-      }
-      for (uint64_t s = 0; s < split_counts[t]; ++s, ++split) {
-        trees[t].splits.push_back({first[split], second[split], thresholds[split]});
-      }
-      trees[t].leaf_values.resize(leaf_counts[t]);
-      for (auto& leaf : trees[t].leaf_values) {
-        leaf.set_size(static_cast<long>(initial.size()));
-        std::copy_n(leaves.begin() + static_cast<std::ptrdiff_t>(value), initial.size(), leaf.begin());
-        value += initial.size();
-      }
-    }
-    if (split != first.size() || value != leaves.size()) return false;
+    level.anchor_idx.assign(anchors.begin(), anchors.end());
+    for (std::size_t i = 0; i < anchors.size(); ++i) level.deltas.emplace_back(deltas[2 * i], deltas[2 * i + 1]);
+    for (std::size_t i = 0; i < first.size(); ++i) level.splits.push_back({first[i], second[i], thresholds[i]});
   }
+  impl_->cache = std::move(file);
   return true;
 }
 
@@ -196,11 +242,10 @@ Landmarks68 LandmarkDetector::DetectUpright(const cv::Mat& gray, const cv::Rect2
                              std::lround(box.y + box.height - 1));
   dlib::matrix<float, 0, 1> shape = impl_->initial_shape;
   std::vector<float> features;
-  for (std::size_t level = 0; level < impl_->forests.size(); ++level) {
-    dlib::impl::extract_feature_pixel_values(image, rect, shape, impl_->initial_shape, impl_->anchor_idx[level],
-                                             impl_->deltas[level], features);
-    unsigned long leaf = 0;
-    for (const auto& tree : impl_->forests[level]) shape += tree(features, leaf);
+  for (const Impl::Level& level : impl_->levels) {
+    dlib::impl::extract_feature_pixel_values(image, rect, shape, impl_->initial_shape, level.anchor_idx, level.deltas,
+                                             features);
+    impl_->AddTreeUpdates(level, features, shape);
   }
   const dlib::point_transform_affine to_image = dlib::impl::unnormalizing_tform(rect);
   Landmarks68 landmarks;
