@@ -44,7 +44,7 @@ int RunIrisEval(const EvalOptions& options) {
   if (!options.iris_fits.empty()) stored = ReadFits(options.iris_fits);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   GazeTracker tracker = setup.MakeTracker();
-  Renderer renderer(setup.model);
+  Renderer renderer(setup.model());
   std::optional<CsvWriter> csv;
   if (!options.csv.empty()) {
     csv.emplace(options.csv, std::vector<std::string>{"frame", "face_id", "eye", "iris_misalignment"},

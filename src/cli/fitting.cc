@@ -15,9 +15,6 @@ void AddFittingOptions(CLI::App& command, FittingOptions& options) {
 FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOptions& options) {
   const Assets assets = Assets::Resolve(common.assets);
   FittingSetup setup;
-  setup.model = EyeRegionModel::Load(assets);
-  setup.landmarks = LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir());
-  setup.mean_face = LoadMeanFace(assets.mean_face());
   for (const std::string& assignment : options.fit) {
     SetFitOption(setup.tracker_options.fresh, assignment);
   }
@@ -25,11 +22,22 @@ FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOpti
     SetFitOption(setup.tracker_options.warm, assignment);
   }
   setup.largest = options.largest;
+  setup.model_loading_ = std::async(std::launch::async, [assets] { return EyeRegionModel::Load(assets); }).share();
+  setup.landmarks = LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir());
+  setup.mean_face = LoadMeanFace(assets.mean_face());
   return setup;
 }
 
 GazeTracker FittingSetup::MakeTracker() const {
-  return GazeTracker(model, landmarks, mean_face, tracker_options, nullptr, largest);
+  return GazeTracker(model(), landmarks, mean_face, tracker_options, nullptr, largest);
+}
+
+std::vector<FaceFit> FittingSetup::FitImage(const cv::Mat& image, const Camera& camera) const {
+  FaceTrackerOptions face_options;
+  face_options.largest_only = largest;
+  FaceTracker faces(landmarks, mean_face, face_options);
+  const std::vector<Face> found = faces.DetectFaces(image, camera);
+  return MakeTracker().FitImageFaces(image, camera, found);
 }
 
 void RequireFitsOfSize(const FitsFile& fits, int width, int height) {

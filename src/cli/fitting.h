@@ -1,5 +1,6 @@
 #pragma once
 
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,16 +24,24 @@ struct FittingOptions {
 };
 void AddFittingOptions(CLI::App& command, FittingOptions& options);
 
-// What fitting needs, loaded once.
+// What fitting needs, loaded once. The eye-region model (about 0.2 s) loads
+// in the background from Create on, while the input is opened and its faces
+// searched for; model() waits for it and rethrows its errors.
 struct FittingSetup {
-  std::shared_ptr<const EyeRegionModel> model;
   std::shared_ptr<const LandmarkDetector> landmarks;
   MeanFace mean_face;
   GazeTrackerOptions tracker_options;
   bool largest = false;
 
   static FittingSetup Create(const CommonOptions& common, const FittingOptions& options);
+  const std::shared_ptr<const EyeRegionModel>& model() const { return model_loading_.get(); }
   GazeTracker MakeTracker() const;
+  // A still's faces found and fitted (GazeTracker::ProcessImage), the faces
+  // searched for before the model is waited for.
+  std::vector<FaceFit> FitImage(const cv::Mat& image, const Camera& camera) const;
+
+ private:
+  std::shared_future<std::shared_ptr<const EyeRegionModel>> model_loading_;
 };
 
 // Fails with a bad-input error when `fits` were made on frames of another

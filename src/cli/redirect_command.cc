@@ -169,8 +169,7 @@ std::vector<StoredFit> FitsOfImage(const RedirectCommandOptions& options, const 
     }
     fits = file.frames.begin()->second.faces;
   } else {
-    GazeTracker tracker = setup.MakeTracker();
-    for (const FaceFit& fit : tracker.ProcessImage(image, camera)) fits.push_back(StoredFit::Of(fit));
+    for (const FaceFit& fit : setup.FitImage(image, camera)) fits.push_back(StoredFit::Of(fit));
   }
   if (fits.empty()) Fail(ExitCode::kNoFace, "no face found in {}; nothing to redirect", options.input);
   return fits;
@@ -197,16 +196,16 @@ void WarnOfUnseenSegments(const GazeScript& script, std::optional<double> video_
 
 int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   const SourceImage source = ReadSourceImage(options.input);
   const cv::Mat& image = source.bgr;
   const Camera camera = options.camera.Resolve(image.cols, image.rows);
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   WarnOfUnseenSegments(script, std::nullopt);
   const std::vector<StoredFit> fits = FitsOfImage(options, setup, image, camera);
 
   cv::Mat result = image.clone();
-  Redirector redirector(setup.model, MakeRedirectOptions(options));
-  Renderer renderer(setup.model);
+  Redirector redirector(setup.model(), MakeRedirectOptions(options));
+  Renderer renderer(setup.model());
   int redirected = 0;
   for (const StoredFit& fit : fits) {
     if (!fit.good) {
@@ -285,7 +284,7 @@ FitsFile TrackVideo(const RedirectCommandOptions& options, const FittingSetup& s
   const std::vector<std::filesystem::path> inputs = {options.input};
   VideoReader reader(options.input);
   GazeTracker tracker = setup.MakeTracker();
-  Renderer renderer(setup.model);
+  Renderer renderer(setup.model());
   TextWriter json(fits_path, inputs);
   Progress progress("track", reader.info().frame_count, "frames", options.common.quiet);
   std::size_t frames = 0;
@@ -394,10 +393,10 @@ FitsFile FitsOfVideo(const RedirectCommandOptions& options, const FittingSetup& 
 
 int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   VideoReader reader(options.input);
   const VideoInfo& info = reader.info();
   const Camera camera = options.camera.Resolve(info.width, info.height);
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   WarnOfUnseenSegments(script, info.duration_s());
 
   // Stage 1: the fits, and the faces and frames held as they were.
@@ -408,18 +407,18 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
                                     [](const auto& frame) { return !frame.second.faces.empty(); });
   if (!any_face) FailNoFaceInVideo(fits.frames.size(), options.input);
   const RedirectOptions redirect_options = MakeRedirectOptions(options);
-  if (!iris_off) iris_off = FitsWithIrisOff(options, fits, camera, setup.model);
+  if (!iris_off) iris_off = FitsWithIrisOff(options, fits, camera, setup.model());
   const auto weights = RedirectionWeights(fits, 0.15, 0.5 * redirect_options.max_closure_deg, *iris_off);
 
   // Stage 2: re-render every frame.
   const int out_width = options.side_by_side ? 2 * info.width : info.width;
   VideoWriter writer(options.output, WriterOptionsFor(options.input, info, out_width), inputs);
-  Redirector redirector(setup.model, redirect_options);
+  Redirector redirector(setup.model(), redirect_options);
   std::map<int, int> environments;  // chosen once per face, so reflections do not flicker
   Progress progress("redirect", info.frame_count, "frames", options.common.quiet);
   DebugFrameChoice debug_choice(options.debug_frames, info.frame_count);
   std::optional<Renderer> debug_renderer;
-  if (!options.debug_dir.empty()) debug_renderer.emplace(setup.model);
+  if (!options.debug_dir.empty()) debug_renderer.emplace(setup.model());
   cv::Mat frame;
   long redirected_frames = 0, untouched = 0, beyond_reach = 0, debugged_frames = 0;
   while (reader.Read(frame)) {

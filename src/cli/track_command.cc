@@ -68,7 +68,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   const cv::Mat crop = ReadImage(options.input);
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
   // Eye patches are fitted as `eval columbia` fits its crops.
-  Fitter fitter(setup.model, EyePatchFitOptions(options.fitting.fit));
+  Fitter fitter(setup.model(), EyePatchFitOptions(options.fitting.fit));
   // The crop's appearance reading: the fit's prior on its gaze and where its head yaw starts (off at weight 0).
   AppearanceReading appearance;
   if (fitter.options().weights.UsesAppearance()) {
@@ -82,7 +82,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   WriteRecords(options, FrameRecord(0, 0, {fit}, &camera), {fit}, inputs);
   if (!options.overlay.empty()) {
     cv::Mat overlay = crop.clone();
-    Renderer renderer(setup.model);
+    Renderer renderer(setup.model());
     DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
     WriteImage(options.overlay, overlay, inputs);
   }
@@ -101,14 +101,13 @@ int RunOnImage(const TrackOptions& options, const FittingSetup& setup) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const cv::Mat image = ReadImage(options.input);
   const Camera camera = options.camera.Resolve(image.cols, image.rows);
-  GazeTracker tracker = setup.MakeTracker();
-  const std::vector<FaceFit> fits = tracker.ProcessImage(image, camera);
+  const std::vector<FaceFit> fits = setup.FitImage(image, camera);
   nlohmann::json record = FrameRecord(0, 0, fits, &camera);
   record["input"] = options.input;
   WriteRecords(options, record, fits, inputs);
   if (!options.overlay.empty()) {
     cv::Mat overlay = image.clone();
-    Renderer renderer(setup.model);
+    Renderer renderer(setup.model());
     for (const FaceFit& fit : fits) DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
     WriteImage(options.overlay, overlay, inputs);
   }
@@ -134,7 +133,7 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
   if (!options.overlay.empty()) {
     overlay.emplace(options.overlay, WriterOptionsFor(options.input, info), inputs);
   }
-  Renderer renderer(setup.model);
+  Renderer renderer(setup.model());
   Progress progress("track", info.frame_count, "frames", options.common.quiet);
   long frames_with_faces = 0, poor_fits = 0, fits_made = 0;
   TrackedFrameReader tracked_frames(reader, tracker, camera);

@@ -82,8 +82,13 @@ void GazeTracker::Reset() {
 }
 
 std::vector<FaceFit> GazeTracker::ProcessImage(const cv::Mat& image, const Camera& camera) {
+  return FitImageFaces(image, camera, faces_.DetectFaces(image, camera));
+}
+
+std::vector<FaceFit> GazeTracker::FitImageFaces(const cv::Mat& image, const Camera& camera,
+                                                const std::vector<Face>& faces) {
   std::vector<FaceFit> fits;
-  for (const Face& face : faces_.DetectFaces(image, camera)) fits.push_back(Fit(image, camera, face, nullptr, 0.0));
+  for (const Face& face : faces) fits.push_back(Fit(image, camera, face, nullptr, 0.0));
   return fits;
 }
 

@@ -68,6 +68,8 @@ class GazeTracker {
               std::shared_ptr<ThreadPool> pool = nullptr, bool largest_only = false);
 
   std::vector<FaceFit> ProcessImage(const cv::Mat& image, const Camera& camera);
+  // ProcessImage's fits of faces found by a FaceTracker of the same options.
+  std::vector<FaceFit> FitImageFaces(const cv::Mat& image, const Camera& camera, const std::vector<Face>& faces);
   // TrackFaces, then FitFaces.
   std::vector<FaceFit> ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera);
   // A video frame's two stages. They touch separate state (the face tracker;

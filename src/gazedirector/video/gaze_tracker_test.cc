@@ -207,5 +207,21 @@ TEST(GazeTrackerTest, ConvergingEyesAreFittedWithTheVergenceFree) {
   }
 }
 
+// The command line finds a still's faces while the model loads, then fits
+// them: the fits are those of ProcessImage, which finds them itself.
+TEST(GazeTrackerTest, AStillsFacesFoundBeforehandAreFittedAsProcessImageFitsThem) {
+  const testing::DetectedStill still = testing::DetectStill("images/d30.jpg");
+  ASSERT_EQ(still.faces.size(), 1u);
+  GazeTracker tracker(testing::SharedModel(), testing::SharedLandmarkDetector(), testing::SharedMeanFace());
+  const std::vector<FaceFit> found = tracker.ProcessImage(still.image, still.camera);
+  const std::vector<FaceFit> given = tracker.FitImageFaces(still.image, still.camera, still.faces);
+  ASSERT_EQ(found.size(), 1u);
+  ASSERT_EQ(given.size(), 1u);
+  EXPECT_EQ(given[0].face.landmarks, found[0].face.landmarks);
+  EXPECT_EQ(given[0].fit.phi.values, found[0].fit.phi.values);
+  EXPECT_EQ(given[0].fit.terms.total(), found[0].fit.terms.total());
+  EXPECT_TRUE(given[0].fit.good) << given[0].fit.note;
+}
+
 }  // namespace
 }  // namespace gazedirector
