@@ -68,12 +68,14 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   const cv::Mat crop = ReadImage(options.input);
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
   // Eye patches are fitted as `eval columbia` fits its crops.
-  Fitter fitter(setup.model(), EyePatchFitOptions(options.fitting.fit));
-  // The crop's appearance reading: the fit's prior on its gaze and where its head yaw starts (off at weight 0).
+  const FitOptions fit_options = EyePatchFitOptions(options.fitting.fit);
+  // The crop's appearance reading: the fit's prior on its gaze and where its
+  // head yaw starts (off at weight 0), read while the eye-region model loads.
   AppearanceReading appearance;
-  if (fitter.options().weights.UsesAppearance()) {
+  if (fit_options.weights.UsesAppearance()) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
+  Fitter fitter(setup.model(), fit_options);
   FaceFit fit;
   fit.fit = fitter.FitEyePatchAt(crop, eye, 0, 0, EyePatchFraming::ReadHeadYaw(appearance), appearance);
   fit.eyes = {eye == kLeftEye, eye == kRightEye};

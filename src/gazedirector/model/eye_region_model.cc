@@ -4,6 +4,7 @@
 #include <map>
 #include <set>
 #include <cmath>
+#include <future>
 
 #include <Eigen/Dense>
 #include <opencv2/imgcodecs.hpp>
@@ -178,6 +179,9 @@ Eigen::Vector3d EyeRegionModel::FixationAngles(const Parameters& phi, const Eige
 std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets) {
   auto model = std::make_shared<EyeRegionModel>();
   const fs::path root = assets.eye_model();
+  // Decoded beside the rest (a fifth of the load's time on its own).
+  std::future<RgbaTexture> eyeball_texture =
+      std::async(std::launch::async, LoadEyeballTexture, root / "textures" / "iris" / "eyeball_grey.png");
   model->shape_ = ShapeModel::Load(root / "shape", kNumShapeModes);
   if (model->shape_.num_vertices() != topology::kNumRegionVertices) {
     Fail(ExitCode::kAssets, "{}: the shape model has {} vertices, not {}", root.string(), model->shape_.num_vertices(),
@@ -239,7 +243,7 @@ std::shared_ptr<const EyeRegionModel> EyeRegionModel::Load(const Assets& assets)
       }
     }
   }
-  model->eyeball_texture_ = LoadEyeballTexture(root / "textures" / "iris" / "eyeball_grey.png");
+  model->eyeball_texture_ = eyeball_texture.get();
   return model;
 }
 
