@@ -33,9 +33,7 @@ GazeTracker FittingSetup::MakeTracker() const {
 }
 
 std::vector<FaceFit> FittingSetup::FitImage(const cv::Mat& image, const Camera& camera) const {
-  FaceTrackerOptions face_options;
-  face_options.largest_only = largest;
-  FaceTracker faces(landmarks, mean_face, face_options);
+  FaceTracker faces(landmarks, mean_face, GazeTracker::FaceOptions(largest));
   const std::vector<Face> found = faces.DetectFaces(image, camera);
   return MakeTracker().FitImageFaces(image, camera, found);
 }

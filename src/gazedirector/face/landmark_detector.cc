@@ -89,15 +89,9 @@ LandmarkDetector::LandmarkDetector(const std::filesystem::path& model_path) : im
     Fail(ExitCode::kAssets, "cannot load the landmark model {}: {}", model_path.string(), e.what());
   }
   const long values = impl_->initial_shape.size();
-  const bool trees_whole = std::all_of(forests.begin(), forests.end(), [&](const auto& trees) {
-    return std::all_of(trees.begin(), trees.end(), [&](const dlib::impl::regression_tree& tree) {
-      return tree.leaf_values.size() == tree.splits.size() + 1 &&
-             std::all_of(tree.leaf_values.begin(), tree.leaf_values.end(), [&](const auto& leaf) { return leaf.size() == values; });
-    });
-  });
-  if (values != 2 * kNumLandmarks || forests.size() != deltas.size() || forests.size() != anchor_idx.size() ||
-      !trees_whole) {
-    Fail(ExitCode::kAssets, "{} is not a 68-point landmark model", model_path.string());
+  const auto not_a_model = [&] { Fail(ExitCode::kAssets, "{} is not a 68-point landmark model", model_path.string()); };
+  if (values != 2 * kNumLandmarks || forests.size() != deltas.size() || forests.size() != anchor_idx.size()) {
+    not_a_model();
   }
   impl_->levels.reserve(forests.size());
   impl_->owned_leaves.reserve(forests.size());
@@ -108,9 +102,14 @@ LandmarkDetector::LandmarkDetector(const std::filesystem::path& model_path) : im
     std::vector<float>& leaves = impl_->owned_leaves.emplace_back();
     level.first_split.push_back(0);
     for (const dlib::impl::regression_tree& tree : forests[l]) {
+      // dlib's trees are full: one leaf more than splits.
+      if (tree.leaf_values.size() != tree.splits.size() + 1) not_a_model();
       level.splits.insert(level.splits.end(), tree.splits.begin(), tree.splits.end());
       level.first_split.push_back(level.splits.size());
-      for (const auto& leaf : tree.leaf_values) leaves.insert(leaves.end(), leaf.begin(), leaf.end());
+      for (const auto& leaf : tree.leaf_values) {
+        if (leaf.size() != values) not_a_model();
+        leaves.insert(leaves.end(), leaf.begin(), leaf.end());
+      }
     }
     level.leaves = leaves;
   }

@@ -67,14 +67,16 @@ GazeTracker::GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::share
                          bool largest_only)
     : model_(model),
       options_(options),
-      faces_(std::move(landmarks), mean_face, [&] {
-        FaceTrackerOptions face_options;
-        face_options.largest_only = largest_only;
-        return face_options;
-      }()),
+      faces_(std::move(landmarks), mean_face, FaceOptions(largest_only)),
       fresh_(model, options.fresh, pool ? pool : (pool = std::make_shared<ThreadPool>())),
       warm_(model, options.warm, pool),
       renderer_(model) {}
+
+FaceTrackerOptions GazeTracker::FaceOptions(bool largest_only) {
+  FaceTrackerOptions options;
+  options.largest_only = largest_only;
+  return options;
+}
 
 void GazeTracker::Reset() {
   faces_.Reset();

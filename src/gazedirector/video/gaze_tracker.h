@@ -68,8 +68,10 @@ class GazeTracker {
               std::shared_ptr<ThreadPool> pool = nullptr, bool largest_only = false);
 
   std::vector<FaceFit> ProcessImage(const cv::Mat& image, const Camera& camera);
-  // ProcessImage's fits of faces found by a FaceTracker of the same options.
+  // ProcessImage's fits of faces found by a FaceTracker with FaceOptions.
   std::vector<FaceFit> FitImageFaces(const cv::Mat& image, const Camera& camera, const std::vector<Face>& faces);
+  // The options of the tracker's own face tracker.
+  static FaceTrackerOptions FaceOptions(bool largest_only);
   // TrackFaces, then FitFaces.
   std::vector<FaceFit> ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera);
   // A video frame's two stages. They touch separate state (the face tracker;
