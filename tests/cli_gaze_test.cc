@@ -469,6 +469,50 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
   EXPECT_TRUE(NoPartialFiles(dir));
 }
 
+// Several inputs, a folder among them, go into an output folder under their
+// own names, each as a run on it alone would write it; one without a face is
+// reported by name and the rest are still written.
+TEST(CliGazeTest, RedirectsSeveralInputsIntoAFolderAsEachAlone) {
+  const fs::path dir = ScratchDir("cli_redirect_batch");
+  fs::create_directories(dir / "in");
+  fs::copy_file(DataPath("images/d30.jpg"), dir / "in" / "d30.jpg", fs::copy_options::overwrite_existing);
+  fs::copy_file(DataPath("images/s39.jpg"), dir / "in" / "s39 cat 100%.jpg", fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "in" / "notes.txt") << "not a photo";
+  std::string output;
+  EXPECT_EQ(RunCli("redirect " + Quote(dir / "in") + " " + Quote(DataPath("images/s12.jpg")) + " -o " + Quote(dir / "out"),
+                   &output),
+            3)
+      << output;
+  EXPECT_NE(output.find("error: [2/3] s39 cat 100%.jpg: no face found"), std::string::npos) << output;
+  EXPECT_NE(output.find("info: [3/3] s12.jpg: 1 of 1 face redirected"), std::string::npos) << output;
+  EXPECT_NE(output.find("1 of 3 inputs failed and were not written: s39 cat 100%.jpg"), std::string::npos) << output;
+  std::vector<std::string> written;
+  for (const auto& entry : fs::directory_iterator(dir / "out")) written.push_back(entry.path().filename().string());
+  std::sort(written.begin(), written.end());
+  EXPECT_EQ(written, (std::vector<std::string>{"d30.jpg", "s12.jpg"}));
+  ASSERT_EQ(RunCli("redirect " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "alone.jpg") + " -q", &output), 0)
+      << output;
+  EXPECT_EQ(testing::ReadText(dir / "out" / "d30.jpg"), testing::ReadText(dir / "alone.jpg"));
+
+  // What would go wrong is refused before any work, with nothing written.
+  const std::string inputs = Quote(dir / "in") + " " + Quote(DataPath("images/s12.jpg"));
+  EXPECT_EQ(RunCli("redirect " + inputs + " " + Quote(dir / "missing.jpg") + " -o " + Quote(dir / "never"), &output), 4)
+      << output;
+  EXPECT_NE(output.find("missing.jpg: no such file"), std::string::npos) << output;
+  EXPECT_EQ(RunCli("redirect " + inputs + " -o " + Quote(dir / "never.jpg"), &output), 2) << output;
+  EXPECT_NE(output.find("several inputs are written into a folder"), std::string::npos) << output;
+  EXPECT_EQ(RunCli("redirect " + inputs + " -o " + Quote(dir / "never") + " --fits " + Quote(dir / "alone.jpg"), &output), 2)
+      << output;
+  EXPECT_EQ(RunCli("redirect " + inputs + " " + Quote(DataPath("images/d30.jpg")) + " -o " + Quote(dir / "never"), &output), 2)
+      << output;
+  EXPECT_NE(output.find("would both be written to"), std::string::npos) << output;
+  EXPECT_EQ(RunCli("redirect " + inputs + " -o " + Quote(dir / "in"), &output), 6) << output;
+  EXPECT_NE(output.find("refusing to overwrite the input"), std::string::npos) << output;
+  EXPECT_EQ(testing::ReadText(dir / "in" / "d30.jpg"), testing::ReadText(DataPath("images/d30.jpg")));
+  EXPECT_FALSE(fs::exists(dir / "never") || fs::exists(dir / "never.jpg"));
+  EXPECT_TRUE(NoPartialFiles(dir));
+}
+
 // An output that cannot be written fails at once, before any fitting, and
 // leaves the other outputs unwritten: nothing is half done.
 TEST(CliGazeTest, AnUnwritableOutputFailsBeforeAnyWork) {

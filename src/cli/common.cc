@@ -13,6 +13,15 @@
 
 namespace gazedirector::cli {
 
+void SetLogPrefix(const std::string& prefix) {
+  std::string literal;  // '%' starts a field in spdlog's patterns
+  for (const char c : prefix) literal += c == '%' ? std::string("%%") : std::string(1, c);
+  spdlog::set_pattern("%^%l%$: " + literal + "%v");
+}
+
+ScopedLogPrefix::ScopedLogPrefix(const std::string& prefix) { SetLogPrefix(prefix); }
+ScopedLogPrefix::~ScopedLogPrefix() { SetLogPrefix(""); }
+
 void AddCommonOptions(CLI::App& command, CommonOptions& options) {
   command.add_option("--assets", options.assets,
                      "Model asset folder (default: $GAZEDIRECTOR_ASSETS, else ../shared/assets beside the repository)");

@@ -14,6 +14,19 @@
 
 namespace gazedirector::cli {
 
+// Log lines read "warning: <prefix>message" (main.cc sets an empty prefix).
+void SetLogPrefix(const std::string& prefix);
+
+// While it lives, every log line names what it is about after its level
+// ("warning: [2/5] d30.jpg: ..."): one input of several.
+class ScopedLogPrefix {
+ public:
+  explicit ScopedLogPrefix(const std::string& prefix);
+  ~ScopedLogPrefix();
+  ScopedLogPrefix(const ScopedLogPrefix&) = delete;
+  ScopedLogPrefix& operator=(const ScopedLogPrefix&) = delete;
+};
+
 // Options every subcommand takes.
 struct CommonOptions {
   std::string assets;

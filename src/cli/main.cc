@@ -93,7 +93,7 @@ int ReportUsageError(CLI::App& app, const CLI::ParseError& error, int argc, char
 int main(int argc, char** argv) {
   using namespace gazedirector;
   spdlog::set_default_logger(spdlog::stderr_color_mt("gazedirector"));
-  spdlog::set_pattern("%^%l%$: %v");
+  cli::SetLogPrefix("");
   cv::setNumThreads(2);
   InstallInterruptHandlers();
 

@@ -44,7 +44,8 @@ struct RedirectCommandOptions {
   CommonOptions common;
   CameraOptions camera;
   FittingOptions fitting;
-  std::string input;
+  std::vector<std::string> inputs;  // as given: files, or folders of them
+  std::string input;                // the one being redirected
   std::string output;
   std::string look_at;
   std::vector<double> gaze;
@@ -59,7 +60,14 @@ struct RedirectCommandOptions {
   bool no_eyelids = false;
   bool refit = false;
   double max_iris_offset = kDefaultMaxIrisOffset;
+  bool in_batch = false;  // one of several inputs: the log lines name it already
 };
+
+// "d30.jpg: " where a log line must name its input: not in a batch, whose
+// lines start with it (ScopedLogPrefix).
+std::string InputLabel(const RedirectCommandOptions& options) {
+  return options.in_batch ? std::string() : options.input + ": ";
+}
 
 GazeScript ParseTarget(const RedirectCommandOptions& options) {
   const int given = !options.look_at.empty() + !options.gaze.empty() + !options.offset.empty() + !options.script.empty();
@@ -194,9 +202,8 @@ void WarnOfUnseenSegments(const GazeScript& script, std::optional<double> video_
   }
 }
 
-int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) {
+int RunOnImage(const RedirectCommandOptions& options, const FittingSetup& setup, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   const SourceImage source = ReadSourceImage(options.input);
   const cv::Mat& image = source.bgr;
   const Camera camera = options.camera.Resolve(image.cols, image.rows);
@@ -244,7 +251,7 @@ int RunOnImage(const RedirectCommandOptions& options, const GazeScript& script) 
   result = InSourceFormat(source, result, options.output);
   if (options.side_by_side) result = SideBySide(InSourceFormat(source, image, options.output), result);
   WriteImage(options.output, result, PhotoMetadata::Read(options.input), inputs);
-  spdlog::info("{}: {} of {} face{} redirected to {} -> {}", options.input, redirected, fits.size(),
+  spdlog::info("{}{} of {} face{} redirected to {} -> {}", InputLabel(options), redirected, fits.size(),
                fits.size() == 1 ? "" : "s", script.Describe(), options.output);
   return 0;
 }
@@ -391,9 +398,8 @@ FitsFile FitsOfVideo(const RedirectCommandOptions& options, const FittingSetup& 
   return fits;
 }
 
-int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) {
+int RunOnVideo(const RedirectCommandOptions& options, const FittingSetup& setup, const GazeScript& script) {
   const std::vector<std::filesystem::path> inputs = {options.input};
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   VideoReader reader(options.input);
   const VideoInfo& info = reader.info();
   const Camera camera = options.camera.Resolve(info.width, info.height);
@@ -486,9 +492,9 @@ int RunOnVideo(const RedirectCommandOptions& options, const GazeScript& script) 
                  "as far toward it as they could",
                  beyond_reach, beyond_reach == 1 ? "" : "s", ReachDescription());
   }
-  spdlog::info("{}: {} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
+  spdlog::info("{}{} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
                "untouched) -> {}",
-               options.input, redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off->size(),
+               InputLabel(options), redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off->size(),
                options.output);
   return 0;
 }
@@ -504,17 +510,142 @@ void WarnOfOptionsForTheOtherKind(const RedirectCommandOptions& options, MediaKi
   }
 }
 
-int RunRedirect(const RedirectCommandOptions& options) {
-  ApplyLogLevel(options.common);
+void RequireFitsFile(const RedirectCommandOptions& options) {
+  if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
+    Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
+  }
+}
+
+int RunOnOne(RedirectCommandOptions options) {
+  options.input = options.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireOutputKind(options.output, "-o", kind, options.input);
   WarnOfOptionsForTheOtherKind(options, kind);
   RequireWritableFolder(options.debug_dir, "--debug-dir");
-  if (!options.fits.empty() && !std::filesystem::exists(options.fits)) {
-    Fail(ExitCode::kBadInput, "--fits {}: no such file", options.fits);
-  }
+  RequireFitsFile(options);
   const GazeScript script = ParseTarget(options);
-  return kind == MediaKind::kImage ? RunOnImage(options, script) : RunOnVideo(options, script);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  return kind == MediaKind::kImage ? RunOnImage(options, setup, script) : RunOnVideo(options, setup, script);
+}
+
+// Several inputs, or a folder of them, are redirected into the folder -o
+// names.
+bool IsBatch(const RedirectCommandOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  return options.inputs.size() > 1 || fs::is_directory(options.inputs.front(), ec) || fs::is_directory(options.output, ec);
+}
+
+struct BatchItem {
+  std::filesystem::path input;
+  MediaKind kind;
+  std::filesystem::path output;
+};
+
+// Where a batch writes an input: under its own name in the output folder, as
+// a PNG or MP4 where its format is one we read but do not write.
+std::filesystem::path BatchOutputPath(const std::filesystem::path& folder, const std::filesystem::path& input,
+                                      MediaKind kind) {
+  std::filesystem::path name = input.filename();
+  if (kind == MediaKind::kImage && !IsImagePath(name)) name.replace_extension(".png");
+  if (kind == MediaKind::kVideo && !HasVideoExtension(name)) name.replace_extension(".mp4");
+  return folder / name;
+}
+
+// Every input of a batch and its output, all checked before any work: a
+// missing input or an output that cannot be written fails the whole batch at
+// once rather than minutes into it.
+std::vector<BatchItem> PlanBatch(const RedirectCommandOptions& options) {
+  namespace fs = std::filesystem;
+  if (!options.fits.empty()) Fail(ExitCode::kUsage, "--fits holds one input's fits: give it with one input");
+  if (IsImagePath(options.output) || HasVideoExtension(options.output)) {
+    std::error_code ec;
+    if (!fs::is_directory(options.output, ec)) {
+      Fail(ExitCode::kUsage, "-o {}: several inputs are written into a folder; name one", options.output);
+    }
+  }
+  std::vector<fs::path> inputs;
+  for (const std::string& given : options.inputs) {
+    std::error_code ec;
+    if (!fs::is_directory(given, ec)) {
+      inputs.push_back(given);
+      continue;
+    }
+    const std::vector<fs::path> listed = MediaFilesIn(given);
+    if (listed.empty()) Fail(ExitCode::kBadInput, "{}: the folder holds no images or videos", given);
+    inputs.insert(inputs.end(), listed.begin(), listed.end());
+  }
+  std::vector<BatchItem> items;
+  std::map<fs::path, fs::path> writers;  // output -> its input
+  for (const fs::path& input : inputs) {
+    const MediaKind kind = DetectMediaKind(input);
+    const fs::path output = BatchOutputPath(options.output, input, kind);
+    const auto [claimed, fresh] = writers.emplace(output, input);
+    if (!fresh) {
+      Fail(ExitCode::kUsage, "{} and {} would both be written to {}: redirect them separately", claimed->second.string(),
+           input.string(), output.string());
+    }
+    items.push_back({input, kind, output});
+  }
+  RequireWritableFolder(options.output, "-o");
+  RequireWritableFolder(options.debug_dir, "--debug-dir");
+  for (const BatchItem& item : items) RequireOutputKind(item.output.string(), "-o", item.kind, item.input.string());
+  return items;
+}
+
+// Redirects each input of a batch as a run on it alone would, the model
+// loaded once. An input that fails is reported and the others go on; the
+// exit code is the first failure's. Missing assets and an interruption stop
+// the batch.
+int RunBatch(const RedirectCommandOptions& options) {
+  const std::vector<BatchItem> items = PlanBatch(options);
+  const bool any_video = std::any_of(items.begin(), items.end(), [](const BatchItem& item) { return item.kind == MediaKind::kVideo; });
+  WarnOfOptionsForTheOtherKind(options, any_video ? MediaKind::kVideo : MediaKind::kImage);
+  const GazeScript script = ParseTarget(options);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  std::vector<std::string> failed;
+  int exit_code = 0;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    ThrowIfInterrupted();
+    const BatchItem& item = items[k];
+    RedirectCommandOptions one = options;
+    one.input = item.input.string();
+    one.output = item.output.string();
+    one.in_batch = true;
+    if (!options.debug_dir.empty()) one.debug_dir = (std::filesystem::path(options.debug_dir) / item.input.filename()).string();
+    const ScopedLogPrefix prefix(fmt::format("[{}/{}] {}: ", k + 1, items.size(), item.input.filename().string()));
+    ExitCode failure = ExitCode::kOk;
+    try {
+      RequireWritableFolder(one.debug_dir, "--debug-dir");
+      if (item.kind == MediaKind::kImage) {
+        RunOnImage(one, setup, script);
+      } else {
+        RunOnVideo(one, setup, script);
+      }
+    } catch (const Error& e) {
+      if (e.code() == ExitCode::kInterrupted || e.code() == ExitCode::kAssets) throw;
+      spdlog::error("{}", e.what());
+      failure = e.code();
+    } catch (const std::exception& e) {
+      spdlog::error("internal error: {}", e.what());
+      failure = ExitCode::kInternal;
+    }
+    if (failure != ExitCode::kOk) {
+      failed.push_back(item.input.filename().string());
+      if (exit_code == 0) exit_code = static_cast<int>(failure);
+    }
+  }
+  if (failed.empty()) {
+    spdlog::info("all {} inputs redirected -> {}", items.size(), options.output);
+  } else {
+    spdlog::warn("{} of {} inputs failed and were not written: {}", failed.size(), items.size(), fmt::join(failed, ", "));
+  }
+  return exit_code;
+}
+
+int RunRedirect(const RedirectCommandOptions& options) {
+  ApplyLogLevel(options.common);
+  return IsBatch(options) ? RunBatch(options) : RunOnOne(options);
 }
 
 }  // namespace
@@ -522,8 +653,10 @@ int RunRedirect(const RedirectCommandOptions& options) {
 Command RegisterRedirectCommand(CLI::App& root) {
   auto options = std::make_shared<RedirectCommandOptions>();
   CLI::App* app = root.add_subcommand("redirect", "Change where the people in an image or video look");
-  app->add_option("input", options->input, "Image or video file")->required();
-  app->add_option("-o,--output", options->output, "Output image or video")->required();
+  app->add_option("input", options->inputs, "Image or video files, or folders of them")->required();
+  app->add_option("-o,--output", options->output,
+                  "Output image or video; for several inputs (or a folder) a folder, where each keeps its name")
+      ->required();
   app->add_option("--look-at", options->look_at, "Look at \"camera\" (eye contact, the default) or a point x,y,z (mm, camera frame)");
   app->add_option("--gaze", options->gaze, "Look in a direction: pitch,yaw in degrees (up and image-right +)")
       ->expected(2)->delimiter(',');

@@ -102,6 +102,8 @@ const std::vector<std::string>& VideoExtensions() {
   return extensions;
 }
 
+bool HasImageExtension(const fs::path& path) { return IsImageExtension(LowerExtension(path)); }
+
 bool HasVideoExtension(const fs::path& path) {
   const std::vector<std::string>& extensions = VideoExtensions();
   return std::find(extensions.begin(), extensions.end(), LowerExtension(path)) != extensions.end();
@@ -134,6 +136,22 @@ MediaKind DetectMediaKind(const fs::path& path) {
   if (IsImageExtension(ext)) return MediaKind::kImage;
   if (HasVideoExtension(path)) return MediaKind::kVideo;
   Fail(ExitCode::kBadInput, "{}: not a recognised image or video file", path.string());
+}
+
+std::vector<fs::path> MediaFilesIn(const fs::path& folder) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path& path = it->path();
+    const bool hidden = path.filename().string().starts_with('.');
+    std::error_code kind_ec;
+    if (!hidden && it->is_regular_file(kind_ec) && (HasImageExtension(path) || HasVideoExtension(path))) {
+      files.push_back(path);
+    }
+  }
+  if (ec) Fail(ExitCode::kBadInput, "{}: cannot list the folder ({})", folder.string(), ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 std::optional<ImageHeader> ProbeImageHeader(const fs::path& path) {

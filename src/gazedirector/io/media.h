@@ -16,10 +16,18 @@ MediaKind DetectMediaKind(const std::filesystem::path& path);
 // The path's extension in lower case, with its dot ("photo.JPG" -> ".jpg").
 std::string LowerExtension(const std::filesystem::path& path);
 
+// True when the path's extension names an image format we read (".jpg", ".png", ...).
+bool HasImageExtension(const std::filesystem::path& path);
+
 // The video containers we can write, by extension (".mp4", ...).
 const std::vector<std::string>& VideoExtensions();
 // True when the path's extension names one of them.
 bool HasVideoExtension(const std::filesystem::path& path);
+
+// The images and videos in `folder` (by extension; not its subfolders or
+// hidden files), sorted by name. Fails with ExitCode::kBadInput when the
+// folder cannot be read.
+std::vector<std::filesystem::path> MediaFilesIn(const std::filesystem::path& folder);
 
 struct ImageHeader {
   std::string format;  // "jpeg", "png", ...

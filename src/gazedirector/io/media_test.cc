@@ -55,6 +55,23 @@ TEST(MediaTest, ExtensionsIgnoreCase) {
   EXPECT_FALSE(HasVideoExtension("mp4"));
 }
 
+// A folder's images and videos, in name order: not its other files, hidden
+// files or subfolders, whatever their names say.
+TEST(MediaTest, ListsAFoldersImagesAndVideosByName) {
+  const fs::path dir = ScratchDir("media_folder");
+  for (const char* name : {"b.JPG", "a.mp4", "c.png", "notes.txt", ".hidden.jpg", "fits.jsonl", "Z.webm"}) {
+    std::ofstream(dir / name) << "x";
+  }
+  fs::create_directories(dir / "sub.jpg");
+  std::ofstream(dir / "sub.jpg" / "d.jpg") << "x";
+  const std::vector<fs::path> expected = {dir / "Z.webm", dir / "a.mp4", dir / "b.JPG", dir / "c.png"};
+  EXPECT_EQ(MediaFilesIn(dir), expected);
+  EXPECT_TRUE(MediaFilesIn(dir / "sub.jpg").size() == 1);
+  EXPECT_EQ(testing::ExitCodeOf([&] { MediaFilesIn(dir / "missing"); }), ExitCode::kBadInput);
+  EXPECT_TRUE(HasImageExtension("photo.TIFF"));
+  EXPECT_FALSE(HasImageExtension("clip.mp4"));
+}
+
 // The header's size is the decoded image's, read without decoding; a file cut
 // short is told from a whole one.
 TEST(MediaTest, ProbesJpegAndPngHeadersWithoutDecoding) {
