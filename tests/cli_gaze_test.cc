@@ -97,6 +97,35 @@ TEST(CliGazeTest, TrackAnEyePatchWritesOnlyWhatWasFitted) {
   EXPECT_GT(face["eyes"]["right"]["yaw_deg"].get<double>(), 5.0);
 }
 
+// Eye patches tracked together, each as alone, into one folder; a video
+// among them is refused before any work, since it is no eye patch.
+TEST(CliGazeTest, TrackSeveralEyePatchesIntoAFolder) {
+  const fs::path dir = ScratchDir("cli_track_batch");
+  const std::vector<std::string> crops = {"0013_2m_0P_0V_0H_R.jpg", "0013_2m_0P_10V_5H_R.jpg", "0013_2m_15P_-10V_-5H_R.jpg"};
+  std::string inputs;
+  for (const std::string& crop : crops) inputs += Quote(DataPath("columbia-eyes/" + crop)) + " ";
+  std::string output;
+  ASSERT_EQ(RunCli("track --eye-patch right " + inputs + "-o " + Quote(dir / "fits") + " --csv " + Quote(dir / "fits"), &output), 0)
+      << output;
+  EXPECT_NE(output.find("info: [2/3] 0013_2m_0P_10V_5H_R.jpg: right eye: gaze pitch"), std::string::npos) << output;
+  for (const std::string& crop : crops) {
+    const std::string stem = fs::path(crop).stem().string();
+    EXPECT_TRUE(fs::exists(dir / "fits" / (stem + ".json")) && fs::exists(dir / "fits" / (stem + ".csv"))) << crop;
+  }
+  ASSERT_EQ(RunCli("track --eye-patch right " + Quote(DataPath("columbia-eyes/" + crops[1])) + " -o " +
+                       Quote(dir / "alone.json") + " -q",
+                   &output),
+            0)
+      << output;
+  EXPECT_EQ(testing::ReadText(dir / "fits" / "0013_2m_0P_10V_5H_R.json"), testing::ReadText(dir / "alone.json"));
+  EXPECT_EQ(RunCli("track --eye-patch right " + inputs + Quote(DataPath("video/d19.mp4")) + " -o " + Quote(dir / "never"),
+                   &output),
+            2)
+      << output;
+  EXPECT_NE(output.find("--eye-patch takes an image of one eye, not a video"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir / "never"));
+}
+
 TEST(CliGazeTest, RedirectAnImageToEyeContactWithDebugPictures) {
   const fs::path dir = ScratchDir("cli_redirect_image");
   std::string output;
@@ -485,7 +514,7 @@ TEST(CliGazeTest, RedirectsSeveralInputsIntoAFolderAsEachAlone) {
       << output;
   EXPECT_NE(output.find("error: [2/3] s39 cat 100%.jpg: no face found"), std::string::npos) << output;
   EXPECT_NE(output.find("info: [3/3] s12.jpg: 1 of 1 face redirected"), std::string::npos) << output;
-  EXPECT_NE(output.find("1 of 3 inputs failed and were not written: s39 cat 100%.jpg"), std::string::npos) << output;
+  EXPECT_NE(output.find("1 of 3 inputs did not go through: s39 cat 100%.jpg (no face)"), std::string::npos) << output;
   std::vector<std::string> written;
   for (const auto& entry : fs::directory_iterator(dir / "out")) written.push_back(entry.path().filename().string());
   std::sort(written.begin(), written.end());

@@ -191,6 +191,46 @@ TEST(CliLandmarksTest, TracksAVideoFrameByFrameKeepingItsAudio) {
   EXPECT_NE(probe.find("audio"), std::string::npos) << probe;
 }
 
+// Several inputs go into output folders, each as a run on it alone writes
+// it: the second of two copies of a clip gets the same face ids and bytes as
+// the first, and a photo's outputs are named after it.
+TEST(CliLandmarksTest, SeveralInputsGoIntoFoldersAsEachAlone) {
+  const fs::path dir = ScratchDir("cli_landmarks_batch");
+  fs::create_directories(dir / "clips");
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -i " + Quote(DataPath("video/d19.mp4")) + " -frames:v 8 -an " +
+                       Quote(dir / "clips" / "a.mp4")),
+            0);
+  fs::copy_file(dir / "clips" / "a.mp4", dir / "clips" / "b.mp4", fs::copy_options::overwrite_existing);
+  std::string output;
+  ASSERT_EQ(RunCli("landmarks " + Quote(DataPath("images/s12.jpg")) + " " + Quote(dir / "clips") + " -o " +
+                       Quote(dir / "fits") + " --csv " + Quote(dir / "csv"),
+                   &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("info: [3/3] b.mp4: faces in 8 of 8 frames"), std::string::npos) << output;
+  EXPECT_NE(output.find("all 3 inputs done"), std::string::npos) << output;
+  const std::string first = ReadText(dir / "fits" / "a.jsonl");
+  ASSERT_EQ(Lines(first).size(), 8u);
+  EXPECT_EQ(ReadText(dir / "fits" / "b.jsonl"), first);
+  EXPECT_EQ(ReadText(dir / "csv" / "b.csv"), ReadText(dir / "csv" / "a.csv"));
+  ASSERT_EQ(RunCli("landmarks " + Quote(DataPath("images/s12.jpg")) + " -o " + Quote(dir / "alone.json") + " --csv " +
+                       Quote(dir / "alone.csv") + " -q",
+                   &output),
+            0)
+      << output;
+  EXPECT_EQ(ReadText(dir / "fits" / "s12.json"), ReadText(dir / "alone.json"));
+  EXPECT_EQ(ReadText(dir / "csv" / "s12.csv"), ReadText(dir / "alone.csv"));
+  // Outputs named as files where folders are meant are refused before any work.
+  EXPECT_EQ(RunCli("landmarks " + Quote(dir / "clips") + " -o " + Quote(dir / "never") + " --csv " + Quote(dir / "all.csv"),
+                   &output),
+            2)
+      << output;
+  EXPECT_NE(output.find("--csv " + (dir / "all.csv").string() + ": several inputs are written into a folder"),
+            std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(dir / "never"));
+}
+
 // A variable-rate video (as phones and screen recorders write) keeps each
 // frame's time in the fits and in the overlay, which holds frames over the
 // sparse stretches instead of squeezing all frames to the average rate.

@@ -13,14 +13,27 @@
 
 namespace gazedirector::cli {
 
+namespace {
+bool log_lines_name_their_input = false;
+}  // namespace
+
 void SetLogPrefix(const std::string& prefix) {
   std::string literal;  // '%' starts a field in spdlog's patterns
   for (const char c : prefix) literal += c == '%' ? std::string("%%") : std::string(1, c);
   spdlog::set_pattern("%^%l%$: " + literal + "%v");
 }
 
-ScopedLogPrefix::ScopedLogPrefix(const std::string& prefix) { SetLogPrefix(prefix); }
-ScopedLogPrefix::~ScopedLogPrefix() { SetLogPrefix(""); }
+ScopedLogPrefix::ScopedLogPrefix(const std::string& prefix) {
+  SetLogPrefix(prefix);
+  log_lines_name_their_input = true;
+}
+
+ScopedLogPrefix::~ScopedLogPrefix() {
+  SetLogPrefix("");
+  log_lines_name_their_input = false;
+}
+
+std::string LogLabel(const std::string& input) { return log_lines_name_their_input ? std::string() : input + ": "; }
 
 void AddCommonOptions(CLI::App& command, CommonOptions& options) {
   command.add_option("--assets", options.assets,

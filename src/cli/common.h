@@ -27,6 +27,10 @@ class ScopedLogPrefix {
   ScopedLogPrefix& operator=(const ScopedLogPrefix&) = delete;
 };
 
+// "photo.jpg: " to start a log line about `input`, or nothing while a
+// ScopedLogPrefix names it already.
+std::string LogLabel(const std::string& input);
+
 // Options every subcommand takes.
 struct CommonOptions {
   std::string assets;

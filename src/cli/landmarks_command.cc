@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/batch.h"
 #include "cli/common.h"
 #include "gazedirector/face/face_io.h"
 #include "gazedirector/face/face_tracker.h"
@@ -26,7 +27,8 @@ namespace {
 struct LandmarksOptions {
   CommonOptions common;
   CameraOptions camera;
-  std::string input;
+  std::vector<std::string> inputs;  // as given: files, or folders of them
+  std::string input;                // the one being searched
   std::string output;
   std::string csv;
   std::string overlay;
@@ -62,7 +64,7 @@ int RunOnImage(const LandmarksOptions& options, FaceTracker& tracker) {
     spdlog::warn("no face found in {}", options.input);
     return static_cast<int>(ExitCode::kNoFace);
   }
-  spdlog::info("{}: {} face{} -> {}", options.input, faces.size(), faces.size() == 1 ? "" : "s", options.output);
+  spdlog::info("{}{} face{} -> {}", LogLabel(options.input), faces.size(), faces.size() == 1 ? "" : "s", options.output);
   return 0;
 }
 
@@ -115,21 +117,58 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
     spdlog::warn("no face found in any of the {} frames of {}", frames, options.input);
     return static_cast<int>(ExitCode::kNoFace);
   }
-  spdlog::info("{}: faces in {} of {} frames -> {}", options.input, frames_with_faces, frames, options.output);
+  spdlog::info("{}faces in {} of {} frames -> {}", LogLabel(options.input), frames_with_faces, frames, options.output);
   return 0;
 }
 
-int RunLandmarks(const LandmarksOptions& options) {
+// The face tracker's models, loaded once; each input gets a tracker of its
+// own, so that a video's face ids start at 0 as on a run of it alone.
+struct FaceModels {
+  std::shared_ptr<const LandmarkDetector> landmarks;
+  MeanFace mean_face;
+
+  static FaceModels Load(const CommonOptions& common) {
+    const Assets assets = Assets::Resolve(common.assets);
+    return {LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir()), LoadMeanFace(assets.mean_face())};
+  }
+  FaceTracker MakeTracker(const LandmarksOptions& options) const {
+    FaceTrackerOptions tracker_options;
+    tracker_options.largest_only = options.largest;
+    tracker_options.smooth = !options.no_smoothing;
+    return FaceTracker(landmarks, mean_face, tracker_options);
+  }
+};
+
+int RunOnOne(const LandmarksOptions& options, MediaKind kind, FaceTracker& tracker) {
+  return kind == MediaKind::kImage ? RunOnImage(options, tracker) : RunOnVideo(options, tracker);
+}
+
+// Several inputs, or folders of them: each searched into the folders -o,
+// --csv and --overlay name, as a run on it alone searches it, the landmark
+// model loaded once. Every input and output is checked before any work.
+int RunBatch(const LandmarksOptions& options) {
+  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
+  const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
+  const FaceModels models = FaceModels::Load(options.common);
+  return RunEachInput(inputs, [&](std::size_t i) {
+    LandmarksOptions one = options;
+    one.input = inputs[i].path.string();
+    one.output = outputs[i].output;
+    one.csv = outputs[i].csv;
+    one.overlay = outputs[i].overlay;
+    FaceTracker tracker = models.MakeTracker(options);
+    return RunOnOne(one, inputs[i].kind, tracker);
+  });
+}
+
+int RunLandmarks(LandmarksOptions options) {
   ApplyLogLevel(options.common);
+  if (IsBatch(options.inputs, options.output)) return RunBatch(options);
+  options.input = options.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
-  const Assets assets = Assets::Resolve(options.common.assets);
-  FaceTrackerOptions tracker_options;
-  tracker_options.largest_only = options.largest;
-  tracker_options.smooth = !options.no_smoothing;
-  FaceTracker tracker(LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir()),
-                      LoadMeanFace(assets.mean_face()), tracker_options);
-  return kind == MediaKind::kImage ? RunOnImage(options, tracker) : RunOnVideo(options, tracker);
+  FaceTracker tracker = FaceModels::Load(options.common).MakeTracker(options);
+  return RunOnOne(options, kind, tracker);
 }
 
 }  // namespace
@@ -137,11 +176,14 @@ int RunLandmarks(const LandmarksOptions& options) {
 Command RegisterLandmarksCommand(CLI::App& root) {
   auto options = std::make_shared<LandmarksOptions>();
   CLI::App* app = root.add_subcommand("landmarks", "Find faces, their 68 landmarks and head pose in an image or video");
-  app->add_option("input", options->input, "Image or video file")->required();
+  app->add_option("input", options->inputs, "Image or video files, or folders of them")->required();
   app->add_option("-o,--output", options->output,
-                  "JSON output: one document for an image, one line per frame for a video")->required();
-  app->add_option("--csv", options->csv, "Also write a CSV with OpenFace's column names");
-  app->add_option("--overlay", options->overlay, "Draw the results over the input (.png/.jpg for images, .mp4 for videos)");
+                  "JSON output: one document for an image, one line per frame for a video; for several inputs a "
+                  "folder, where each gets its name.json (.jsonl for a video)")
+      ->required();
+  app->add_option("--csv", options->csv, "Also write a CSV with OpenFace's column names (several inputs: a folder)");
+  app->add_option("--overlay", options->overlay,
+                  "Draw the results over the input (.png/.jpg for images, .mp4 for videos; several inputs: a folder)");
   app->add_flag("--largest", options->largest, "Report only the largest face");
   app->add_flag("--no-smoothing", options->no_smoothing, "Report raw video landmarks, without temporal smoothing");
   AddCameraOptions(*app, options->camera);

@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/batch.h"
 #include "cli/common.h"
 #include "cli/fitting.h"
 #include "gazedirector/fit/iris_alignment.h"
@@ -60,14 +61,7 @@ struct RedirectCommandOptions {
   bool no_eyelids = false;
   bool refit = false;
   double max_iris_offset = kDefaultMaxIrisOffset;
-  bool in_batch = false;  // one of several inputs: the log lines name it already
 };
-
-// "d30.jpg: " where a log line must name its input: not in a batch, whose
-// lines start with it (ScopedLogPrefix).
-std::string InputLabel(const RedirectCommandOptions& options) {
-  return options.in_batch ? std::string() : options.input + ": ";
-}
 
 GazeScript ParseTarget(const RedirectCommandOptions& options) {
   const int given = !options.look_at.empty() + !options.gaze.empty() + !options.offset.empty() + !options.script.empty();
@@ -251,7 +245,7 @@ int RunOnImage(const RedirectCommandOptions& options, const FittingSetup& setup,
   result = InSourceFormat(source, result, options.output);
   if (options.side_by_side) result = SideBySide(InSourceFormat(source, image, options.output), result);
   WriteImage(options.output, result, PhotoMetadata::Read(options.input), inputs);
-  spdlog::info("{}{} of {} face{} redirected to {} -> {}", InputLabel(options), redirected, fits.size(),
+  spdlog::info("{}{} of {} face{} redirected to {} -> {}", LogLabel(options.input), redirected, fits.size(),
                fits.size() == 1 ? "" : "s", script.Describe(), options.output);
   return 0;
 }
@@ -494,7 +488,7 @@ int RunOnVideo(const RedirectCommandOptions& options, const FittingSetup& setup,
   }
   spdlog::info("{}{} of {} frames redirected to {} ({} poor fits and {} with an iris off the photo's left "
                "untouched) -> {}",
-               InputLabel(options), redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off->size(),
+               LogLabel(options.input), redirected_frames, reader.frame_index() + 1, script.Describe(), untouched, iris_off->size(),
                options.output);
   return 0;
 }
@@ -528,124 +522,40 @@ int RunOnOne(RedirectCommandOptions options) {
   return kind == MediaKind::kImage ? RunOnImage(options, setup, script) : RunOnVideo(options, setup, script);
 }
 
-// Several inputs, or a folder of them, are redirected into the folder -o
-// names.
-bool IsBatch(const RedirectCommandOptions& options) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  return options.inputs.size() > 1 || fs::is_directory(options.inputs.front(), ec) || fs::is_directory(options.output, ec);
-}
-
-struct BatchItem {
-  std::filesystem::path input;
-  MediaKind kind;
-  std::filesystem::path output;
-};
-
-// Where a batch writes an input: under its own name in the output folder, as
-// a PNG or MP4 where its format is one we read but do not write.
-std::filesystem::path BatchOutputPath(const std::filesystem::path& folder, const std::filesystem::path& input,
-                                      MediaKind kind) {
-  std::filesystem::path name = input.filename();
-  if (kind == MediaKind::kImage && !IsImagePath(name)) name.replace_extension(".png");
-  if (kind == MediaKind::kVideo && !HasVideoExtension(name)) name.replace_extension(".mp4");
-  return folder / name;
-}
-
-// Every input of a batch and its output, all checked before any work: a
-// missing input or an output that cannot be written fails the whole batch at
-// once rather than minutes into it.
-std::vector<BatchItem> PlanBatch(const RedirectCommandOptions& options) {
+// Several inputs, or folders of them: each redirected into the folder -o
+// names, as a run on it alone redirects it, the model loaded once. Every
+// input and output is checked before any work.
+int RunBatch(const RedirectCommandOptions& options) {
   namespace fs = std::filesystem;
   if (!options.fits.empty()) Fail(ExitCode::kUsage, "--fits holds one input's fits: give it with one input");
-  if (IsImagePath(options.output) || HasVideoExtension(options.output)) {
-    std::error_code ec;
-    if (!fs::is_directory(options.output, ec)) {
-      Fail(ExitCode::kUsage, "-o {}: several inputs are written into a folder; name one", options.output);
-    }
-  }
-  std::vector<fs::path> inputs;
-  for (const std::string& given : options.inputs) {
-    std::error_code ec;
-    if (!fs::is_directory(given, ec)) {
-      inputs.push_back(given);
-      continue;
-    }
-    const std::vector<fs::path> listed = MediaFilesIn(given);
-    if (listed.empty()) Fail(ExitCode::kBadInput, "{}: the folder holds no images or videos", given);
-    inputs.insert(inputs.end(), listed.begin(), listed.end());
-  }
-  std::vector<BatchItem> items;
-  std::map<fs::path, fs::path> writers;  // output -> its input
-  for (const fs::path& input : inputs) {
-    const MediaKind kind = DetectMediaKind(input);
-    const fs::path output = BatchOutputPath(options.output, input, kind);
-    const auto [claimed, fresh] = writers.emplace(output, input);
-    if (!fresh) {
-      Fail(ExitCode::kUsage, "{} and {} would both be written to {}: redirect them separately", claimed->second.string(),
-           input.string(), output.string());
-    }
-    items.push_back({input, kind, output});
-  }
+  RequireFolderName(options.output, "-o");
+  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
+  std::vector<fs::path> outputs;
+  for (const BatchInput& input : inputs) outputs.push_back(BatchOutputPath(options.output, input));
+  RequireDistinctOutputs(inputs, outputs);
   RequireWritableFolder(options.output, "-o");
   RequireWritableFolder(options.debug_dir, "--debug-dir");
-  for (const BatchItem& item : items) RequireOutputKind(item.output.string(), "-o", item.kind, item.input.string());
-  return items;
-}
-
-// Redirects each input of a batch as a run on it alone would, the model
-// loaded once. An input that fails is reported and the others go on; the
-// exit code is the first failure's. Missing assets and an interruption stop
-// the batch.
-int RunBatch(const RedirectCommandOptions& options) {
-  const std::vector<BatchItem> items = PlanBatch(options);
-  const bool any_video = std::any_of(items.begin(), items.end(), [](const BatchItem& item) { return item.kind == MediaKind::kVideo; });
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    RequireOutputKind(outputs[i].string(), "-o", inputs[i].kind, inputs[i].path.string());
+  }
+  const bool any_video =
+      std::any_of(inputs.begin(), inputs.end(), [](const BatchInput& input) { return input.kind == MediaKind::kVideo; });
   WarnOfOptionsForTheOtherKind(options, any_video ? MediaKind::kVideo : MediaKind::kImage);
   const GazeScript script = ParseTarget(options);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
-  std::vector<std::string> failed;
-  int exit_code = 0;
-  for (std::size_t k = 0; k < items.size(); ++k) {
-    ThrowIfInterrupted();
-    const BatchItem& item = items[k];
+  return RunEachInput(inputs, [&](std::size_t i) {
     RedirectCommandOptions one = options;
-    one.input = item.input.string();
-    one.output = item.output.string();
-    one.in_batch = true;
-    if (!options.debug_dir.empty()) one.debug_dir = (std::filesystem::path(options.debug_dir) / item.input.filename()).string();
-    const ScopedLogPrefix prefix(fmt::format("[{}/{}] {}: ", k + 1, items.size(), item.input.filename().string()));
-    ExitCode failure = ExitCode::kOk;
-    try {
-      RequireWritableFolder(one.debug_dir, "--debug-dir");
-      if (item.kind == MediaKind::kImage) {
-        RunOnImage(one, setup, script);
-      } else {
-        RunOnVideo(one, setup, script);
-      }
-    } catch (const Error& e) {
-      if (e.code() == ExitCode::kInterrupted || e.code() == ExitCode::kAssets) throw;
-      spdlog::error("{}", e.what());
-      failure = e.code();
-    } catch (const std::exception& e) {
-      spdlog::error("internal error: {}", e.what());
-      failure = ExitCode::kInternal;
-    }
-    if (failure != ExitCode::kOk) {
-      failed.push_back(item.input.filename().string());
-      if (exit_code == 0) exit_code = static_cast<int>(failure);
-    }
-  }
-  if (failed.empty()) {
-    spdlog::info("all {} inputs redirected -> {}", items.size(), options.output);
-  } else {
-    spdlog::warn("{} of {} inputs failed and were not written: {}", failed.size(), items.size(), fmt::join(failed, ", "));
-  }
-  return exit_code;
+    one.input = inputs[i].path.string();
+    one.output = outputs[i].string();
+    if (!options.debug_dir.empty()) one.debug_dir = (fs::path(options.debug_dir) / inputs[i].path.filename()).string();
+    RequireWritableFolder(one.debug_dir, "--debug-dir");
+    return inputs[i].kind == MediaKind::kImage ? RunOnImage(one, setup, script) : RunOnVideo(one, setup, script);
+  });
 }
 
 int RunRedirect(const RedirectCommandOptions& options) {
   ApplyLogLevel(options.common);
-  return IsBatch(options) ? RunBatch(options) : RunOnOne(options);
+  return IsBatch(options.inputs, options.output) ? RunBatch(options) : RunOnOne(options);
 }
 
 }  // namespace

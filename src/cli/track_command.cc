@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/batch.h"
 #include "cli/common.h"
 #include "cli/fitting.h"
 #include "gazedirector/fit/appearance_gaze.h"
@@ -33,7 +34,8 @@ struct TrackOptions {
   CommonOptions common;
   CameraOptions camera;
   FittingOptions fitting;
-  std::string input;
+  std::vector<std::string> inputs;  // as given: files, or folders of them
+  std::string input;                // the one being tracked
   std::string output;
   std::string csv;
   std::string overlay;
@@ -44,9 +46,9 @@ void Summarise(const std::string& input, const std::vector<FaceFit>& fits) {
   for (const FaceFit& fit : fits) {
     const std::array<EyeGaze, 2> gazes = EyeGazes(fit.fit.phi);
     const Eigen::Vector2d angles = GazeAngles(0.5 * (gazes[0].gaze + gazes[1].gaze));
-    spdlog::info("{}: face {}: gaze pitch {:.1f} yaw {:.1f} deg (head frame), angle x {:.1f} y {:.1f} deg (camera), "
+    spdlog::info("{}face {}: gaze pitch {:.1f} yaw {:.1f} deg (head frame), angle x {:.1f} y {:.1f} deg (camera), "
                  "energy {:.4f}{}",
-                 input, fit.face.id, fit.fit.phi.gaze_pitch(), fit.fit.phi.gaze_yaw(), angles.x() * 180 / M_PI,
+                 LogLabel(input), fit.face.id, fit.fit.phi.gaze_pitch(), fit.fit.phi.gaze_yaw(), angles.x() * 180 / M_PI,
                  angles.y() * 180 / M_PI, fit.fit.terms.total(), fit.fit.good ? "" : " (poor fit: " + fit.fit.note + ")");
   }
 }
@@ -88,9 +90,9 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
     DrawFit(overlay, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
     WriteImage(options.overlay, overlay, inputs);
   }
-  spdlog::info("{}: {} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head, head yaw {:.1f} (appearance "
+  spdlog::info("{}{} eye: gaze pitch {:.1f} yaw {:.1f} deg relative to the head, head yaw {:.1f} (appearance "
                "prior {}), energy {:.4f}{} -> {}",
-               options.input, options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
+               LogLabel(options.input), options.eye_patch, fit.fit.phi.gaze_pitch(), EyeRegionModel::EyeYaw(fit.fit.phi, eye),
                fit.fit.phi.rotation_deg().y(),
                std::isnan(appearance.pitch) ? std::string("off")
                                             : fmt::format("pitch {:.1f} yaw {:.1f} head yaw {:.1f}", appearance.pitch,
@@ -170,21 +172,52 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
     spdlog::warn("no face found in any of the {} frames of {}", frames, options.input);
     return static_cast<int>(ExitCode::kNoFace);
   }
-  spdlog::info("{}: {} fits in {} frames ({:.1f} frames/s), {} poor -> {}", options.input, fits_made, frames,
+  spdlog::info("{}{} fits in {} frames ({:.1f} frames/s), {} poor -> {}", LogLabel(options.input), fits_made, frames,
                frames / progress.elapsed_s(), poor_fits, options.output);
   return 0;
 }
 
-int RunTrack(const TrackOptions& options) {
-  ApplyLogLevel(options.common);
-  const MediaKind kind = DetectMediaKind(options.input);
-  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
-  if (!options.eye_patch.empty() && kind != MediaKind::kImage) {
-    Fail(ExitCode::kUsage, "--eye-patch takes an image of one eye, not a video");
-  }
-  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+int RunOnOne(const TrackOptions& options, MediaKind kind, const FittingSetup& setup) {
   if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup);
   return kind == MediaKind::kImage ? RunOnImage(options, setup) : RunOnVideo(options, setup);
+}
+
+void RequireEyePatchImages(const TrackOptions& options, const std::vector<BatchInput>& inputs) {
+  if (options.eye_patch.empty()) return;
+  for (const BatchInput& input : inputs) {
+    if (input.kind != MediaKind::kImage) {
+      Fail(ExitCode::kUsage, "--eye-patch takes an image of one eye, not a video ({})", input.path.string());
+    }
+  }
+}
+
+// Several inputs, or folders of them: each tracked into the folders -o,
+// --csv and --overlay name, as a run on it alone tracks it, the model loaded
+// once. Every input and output is checked before any work.
+int RunBatch(const TrackOptions& options) {
+  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
+  RequireEyePatchImages(options, inputs);
+  const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  return RunEachInput(inputs, [&](std::size_t i) {
+    TrackOptions one = options;
+    one.input = inputs[i].path.string();
+    one.output = outputs[i].output;
+    one.csv = outputs[i].csv;
+    one.overlay = outputs[i].overlay;
+    return RunOnOne(one, inputs[i].kind, setup);
+  });
+}
+
+int RunTrack(TrackOptions options) {
+  ApplyLogLevel(options.common);
+  if (IsBatch(options.inputs, options.output)) return RunBatch(options);
+  options.input = options.inputs.front();
+  const MediaKind kind = DetectMediaKind(options.input);
+  RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
+  RequireEyePatchImages(options, {{options.input, kind}});
+  const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  return RunOnOne(options, kind, setup);
 }
 
 }  // namespace
@@ -192,11 +225,15 @@ int RunTrack(const TrackOptions& options) {
 Command RegisterTrackCommand(CLI::App& root) {
   auto options = std::make_shared<TrackOptions>();
   CLI::App* app = root.add_subcommand("track", "Fit the 3D eye-region model to each face of an image or video and estimate gaze");
-  app->add_option("input", options->input, "Image or video file")->required();
+  app->add_option("input", options->inputs, "Image or video files, or folders of them")->required();
   app->add_option("-o,--output", options->output,
-                  "Fits: JSON lines (.jsonl, one line per frame) or one JSON document (.json, images)")->required();
-  app->add_option("--csv", options->csv, "Also write gaze and head pose as CSV with OpenFace's column names");
-  app->add_option("--overlay", options->overlay, "Draw the fitted model and gaze rays over the input (.png/.jpg or .mp4)");
+                  "Fits: JSON lines (.jsonl, one line per frame) or one JSON document (.json, images); for several "
+                  "inputs a folder, where each gets its name.json (.jsonl for a video)")
+      ->required();
+  app->add_option("--csv", options->csv,
+                  "Also write gaze and head pose as CSV with OpenFace's column names (several inputs: a folder)");
+  app->add_option("--overlay", options->overlay,
+                  "Draw the fitted model and gaze rays over the input (.png/.jpg or .mp4; several inputs: a folder)");
   app->add_option("--eye-patch", options->eye_patch, "The input is a crop of one eye (as the Columbia crops): left or right")
       ->check(CLI::IsMember({"left", "right"}));
   AddFittingOptions(*app, options->fitting);

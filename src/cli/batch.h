@@ -1,0 +1,59 @@
+#pragma once
+
+// Commands run on several inputs, or folders of them: each input is written
+// into output folders under its own name, as a run on it alone writes it.
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gazedirector/io/media.h"
+
+namespace gazedirector::cli {
+
+struct BatchInput {
+  std::filesystem::path path;
+  MediaKind kind;
+};
+
+// Whether a command line asks for a batch: several inputs, a folder among
+// them, or an output that is an existing folder.
+bool IsBatch(const std::vector<std::string>& inputs, const std::string& output);
+
+// The inputs as given, each folder replaced by its images and videos
+// (MediaFilesIn), each with its kind. Fails with a bad-input error for a
+// missing or unrecognised file or a folder with nothing to read.
+std::vector<BatchInput> ExpandBatchInputs(const std::vector<std::string>& inputs);
+
+// Fails with a usage error where `folder` (given as `option`) is named like a
+// file (out.jpg, fits.json) and is no existing folder. An empty name passes.
+void RequireFolderName(const std::string& folder, const std::string& option);
+
+// An input's output in `folder`: its name with `extension` (".json"), or,
+// where that is empty, its whole name, made a PNG or an MP4 where its format
+// is one we read but do not write.
+std::filesystem::path BatchOutputPath(const std::filesystem::path& folder, const BatchInput& input,
+                                      const std::string& extension = "");
+
+// Fails with a usage error where two inputs would be written to one file
+// (`outputs[i]` is `inputs[i]`'s).
+void RequireDistinctOutputs(const std::vector<BatchInput>& inputs, const std::vector<std::filesystem::path>& outputs);
+
+// The outputs of `landmarks` and `track` for each input of a batch: -o, --csv
+// and --overlay name folders (the last two may be empty: not written), each
+// checked as RequireAnalysisOutputs checks one input's, the folders made.
+struct AnalysisOutputs {
+  std::string output, csv, overlay;
+};
+std::vector<AnalysisOutputs> PlanAnalysisOutputs(const std::vector<BatchInput>& inputs, const std::string& output,
+                                                 const std::string& csv, const std::string& overlay);
+
+// Runs `run(i)` on each input in turn, its log lines prefixed "[k/n] name: ".
+// An input that fails (an error, or a non-zero exit code returned) is
+// reported and the others go on; returns the first failure's exit code. An
+// interruption and missing model assets stop the batch.
+int RunEachInput(const std::vector<BatchInput>& inputs, const std::function<int(std::size_t)>& run);
+
+}  // namespace gazedirector::cli
