@@ -507,14 +507,20 @@ TEST(CliGazeTest, RedirectsSeveralInputsIntoAFolderAsEachAlone) {
   fs::copy_file(DataPath("images/d30.jpg"), dir / "in" / "d30.jpg", fs::copy_options::overwrite_existing);
   fs::copy_file(DataPath("images/s39.jpg"), dir / "in" / "s39 cat 100%.jpg", fs::copy_options::overwrite_existing);
   std::ofstream(dir / "in" / "notes.txt") << "not a photo";
+  std::ofstream(dir / "in" / "empty.jpg").close();  // a folder's file that cannot be read fails in its turn
   std::string output;
   EXPECT_EQ(RunCli("redirect " + Quote(dir / "in") + " " + Quote(DataPath("images/s12.jpg")) + " -o " + Quote(dir / "out"),
                    &output),
-            3)
+            4)
       << output;
-  EXPECT_NE(output.find("error: [2/3] s39 cat 100%.jpg: no face found"), std::string::npos) << output;
-  EXPECT_NE(output.find("info: [3/3] s12.jpg: 1 of 1 face redirected"), std::string::npos) << output;
-  EXPECT_NE(output.find("1 of 3 inputs did not go through: s39 cat 100%.jpg (no face)"), std::string::npos) << output;
+  EXPECT_NE(output.find("error: [2/4] empty.jpg: " + (dir / "in" / "empty.jpg").string() + ": the file is empty"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("error: [3/4] s39 cat 100%.jpg: no face found"), std::string::npos) << output;
+  EXPECT_NE(output.find("info: [4/4] s12.jpg: 1 of 1 face redirected"), std::string::npos) << output;
+  EXPECT_NE(output.find("2 of 4 inputs did not go through: empty.jpg (bad input), s39 cat 100%.jpg (no face)"),
+            std::string::npos)
+      << output;
   std::vector<std::string> written;
   for (const auto& entry : fs::directory_iterator(dir / "out")) written.push_back(entry.path().filename().string());
   std::sort(written.begin(), written.end());

@@ -42,12 +42,18 @@ std::vector<BatchInput> ExpandBatchInputs(const std::vector<std::string>& inputs
   std::vector<BatchInput> expanded;
   for (const std::string& given : inputs) {
     if (!IsFolder(given)) {
-      expanded.push_back({given, DetectMediaKind(given)});
+      expanded.push_back({given, DetectMediaKind(given), ""});
       continue;
     }
     const std::vector<fs::path> listed = MediaFilesIn(given);
     if (listed.empty()) Fail(ExitCode::kBadInput, "{}: the folder holds no images or videos", given);
-    for (const fs::path& path : listed) expanded.push_back({path, DetectMediaKind(path)});
+    for (const fs::path& path : listed) {
+      try {
+        expanded.push_back({path, DetectMediaKind(path), ""});
+      } catch (const Error& e) {
+        expanded.push_back({path, HasVideoExtension(path) ? MediaKind::kVideo : MediaKind::kImage, e.what()});
+      }
+    }
   }
   return expanded;
 }
@@ -101,7 +107,9 @@ std::vector<AnalysisOutputs> PlanAnalysisOutputs(const std::vector<BatchInput>& 
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     AnalysisOutputs one{outputs[i].string(), csv.empty() ? "" : csvs[i].string(),
                         overlay.empty() ? "" : overlays[i].string()};
-    RequireAnalysisOutputs(one.output, one.csv, one.overlay, inputs[i].kind, inputs[i].path.string());
+    if (inputs[i].unreadable.empty()) {
+      RequireAnalysisOutputs(one.output, one.csv, one.overlay, inputs[i].kind, inputs[i].path.string());
+    }
     planned.push_back(one);
   }
   return planned;
@@ -117,6 +125,7 @@ int RunEachInput(const std::vector<BatchInput>& inputs, const std::function<int(
     {
       const ScopedLogPrefix prefix(fmt::format("[{}/{}] {}: ", i + 1, inputs.size(), name));
       try {
+        if (!inputs[i].unreadable.empty()) throw Error(ExitCode::kBadInput, inputs[i].unreadable);
         code = run(i);
       } catch (const Error& e) {
         if (e.code() == ExitCode::kInterrupted || e.code() == ExitCode::kAssets) throw;

@@ -16,6 +16,7 @@ namespace gazedirector::cli {
 struct BatchInput {
   std::filesystem::path path;
   MediaKind kind;
+  std::string unreadable;  // why a file found in a folder cannot be read (empty: it can); its turn reports it
 };
 
 // Whether a command line asks for a batch: several inputs, a folder among
@@ -24,7 +25,9 @@ bool IsBatch(const std::vector<std::string>& inputs, const std::string& output);
 
 // The inputs as given, each folder replaced by its images and videos
 // (MediaFilesIn), each with its kind. Fails with a bad-input error for a
-// missing or unrecognised file or a folder with nothing to read.
+// missing or unrecognised file given by name, or a folder with nothing to
+// read; a file in a folder that cannot be read (empty, say) is marked so and
+// fails in its turn, as one that cannot be decoded does.
 std::vector<BatchInput> ExpandBatchInputs(const std::vector<std::string>& inputs);
 
 // Fails with a usage error where `folder` (given as `option`) is named like a

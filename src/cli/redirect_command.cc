@@ -536,7 +536,7 @@ int RunBatch(const RedirectCommandOptions& options) {
   RequireWritableFolder(options.output, "-o");
   RequireWritableFolder(options.debug_dir, "--debug-dir");
   for (std::size_t i = 0; i < inputs.size(); ++i) {
-    RequireOutputKind(outputs[i].string(), "-o", inputs[i].kind, inputs[i].path.string());
+    if (inputs[i].unreadable.empty()) RequireOutputKind(outputs[i].string(), "-o", inputs[i].kind, inputs[i].path.string());
   }
   const bool any_video =
       std::any_of(inputs.begin(), inputs.end(), [](const BatchInput& input) { return input.kind == MediaKind::kVideo; });

@@ -215,7 +215,7 @@ int RunTrack(TrackOptions options) {
   options.input = options.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
-  RequireEyePatchImages(options, {{options.input, kind}});
+  RequireEyePatchImages(options, {{options.input, kind, ""}});
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   return RunOnOne(options, kind, setup);
 }
