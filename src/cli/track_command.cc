@@ -65,7 +65,8 @@ void WriteRecords(const TrackOptions& options, const nlohmann::json& record, con
   }
 }
 
-int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
+// `reader`: the appearance prior loaded beforehand (a batch's), else loaded here.
+int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup, const AppearanceGaze* reader) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const cv::Mat crop = ReadImage(options.input);
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
@@ -75,7 +76,7 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup) {
   // head yaw starts (off at weight 0), read while the eye-region model loads.
   AppearanceReading appearance;
   if (fit_options.weights.UsesAppearance()) {
-    appearance = AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
+    appearance = reader ? reader->Read(crop, eye) : AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
   }
   Fitter fitter(setup.model(), fit_options);
   FaceFit fit;
@@ -177,8 +178,9 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
   return 0;
 }
 
-int RunOnOne(const TrackOptions& options, MediaKind kind, const FittingSetup& setup) {
-  if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup);
+int RunOnOne(const TrackOptions& options, MediaKind kind, const FittingSetup& setup,
+             const AppearanceGaze* appearance = nullptr) {
+  if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup, appearance);
   return kind == MediaKind::kImage ? RunOnImage(options, setup) : RunOnVideo(options, setup);
 }
 
@@ -199,13 +201,17 @@ int RunBatch(const TrackOptions& options) {
   RequireEyePatchImages(options, inputs);
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
+  std::optional<AppearanceGaze> appearance;  // eye patches' prior, read once for them all
+  if (!options.eye_patch.empty() && EyePatchFitOptions(options.fitting.fit).weights.UsesAppearance()) {
+    appearance = AppearanceGaze::Load(DefaultAppearanceModelPath());
+  }
   return RunEachInput(inputs, [&](std::size_t i) {
     TrackOptions one = options;
     one.input = inputs[i].path.string();
     one.output = outputs[i].output;
     one.csv = outputs[i].csv;
     one.overlay = outputs[i].overlay;
-    return RunOnOne(one, inputs[i].kind, setup);
+    return RunOnOne(one, inputs[i].kind, setup, appearance ? &*appearance : nullptr);
   });
 }
 
