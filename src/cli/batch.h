@@ -53,6 +53,17 @@ struct AnalysisOutputs {
 std::vector<AnalysisOutputs> PlanAnalysisOutputs(const std::vector<BatchInput>& inputs, const std::string& output,
                                                  const std::string& csv, const std::string& overlay);
 
+// A command's options for one input of a batch: its input and its outputs
+// (PlanAnalysisOutputs) put in.
+template <typename Options>
+Options OptionsForInput(Options options, const BatchInput& input, const AnalysisOutputs& outputs) {
+  options.input = input.path.string();
+  options.output = outputs.output;
+  options.csv = outputs.csv;
+  options.overlay = outputs.overlay;
+  return options;
+}
+
 // Runs `run(i)` on each input in turn, its log lines prefixed "[k/n] name: ".
 // An input that fails (an error, or a non-zero exit code returned) is
 // reported and the others go on; returns the first failure's exit code. An

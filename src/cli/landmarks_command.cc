@@ -151,13 +151,8 @@ int RunBatch(const LandmarksOptions& options) {
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
   const FaceModels models = FaceModels::Load(options.common);
   return RunEachInput(inputs, [&](std::size_t i) {
-    LandmarksOptions one = options;
-    one.input = inputs[i].path.string();
-    one.output = outputs[i].output;
-    one.csv = outputs[i].csv;
-    one.overlay = outputs[i].overlay;
     FaceTracker tracker = models.MakeTracker(options);
-    return RunOnOne(one, inputs[i].kind, tracker);
+    return RunOnOne(OptionsForInput(options, inputs[i], outputs[i]), inputs[i].kind, tracker);
   });
 }
 

@@ -206,12 +206,8 @@ int RunBatch(const TrackOptions& options) {
     appearance = AppearanceGaze::Load(DefaultAppearanceModelPath());
   }
   return RunEachInput(inputs, [&](std::size_t i) {
-    TrackOptions one = options;
-    one.input = inputs[i].path.string();
-    one.output = outputs[i].output;
-    one.csv = outputs[i].csv;
-    one.overlay = outputs[i].overlay;
-    return RunOnOne(one, inputs[i].kind, setup, appearance ? &*appearance : nullptr);
+    return RunOnOne(OptionsForInput(options, inputs[i], outputs[i]), inputs[i].kind, setup,
+                    appearance ? &*appearance : nullptr);
   });
 }
 
