@@ -27,7 +27,6 @@ std::string FailureWords(ExitCode code) {
     case ExitCode::kNoFace: return "no face";
     case ExitCode::kBadInput: return "bad input";
     case ExitCode::kOutput: return "output not written";
-    case ExitCode::kUsage: return "not for this input";
     default: return "internal error";
   }
 }
@@ -128,7 +127,8 @@ int RunEachInput(const std::vector<BatchInput>& inputs, const std::function<int(
         if (!inputs[i].unreadable.empty()) throw Error(ExitCode::kBadInput, inputs[i].unreadable);
         code = run(i);
       } catch (const Error& e) {
-        if (e.code() == ExitCode::kInterrupted || e.code() == ExitCode::kAssets) throw;
+        // These hold for every input alike.
+        if (e.code() == ExitCode::kInterrupted || e.code() == ExitCode::kAssets || e.code() == ExitCode::kUsage) throw;
         spdlog::error("{}", e.what());
         code = static_cast<int>(e.code());
       } catch (const std::exception& e) {

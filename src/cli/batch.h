@@ -67,7 +67,8 @@ Options OptionsForInput(Options options, const BatchInput& input, const Analysis
 // Runs `run(i)` on each input in turn, its log lines prefixed "[k/n] name: ".
 // An input that fails (an error, or a non-zero exit code returned) is
 // reported and the others go on; returns the first failure's exit code. An
-// interruption and missing model assets stop the batch.
+// interruption, missing model assets and a usage error (bad camera options,
+// say) stop the batch.
 int RunEachInput(const std::vector<BatchInput>& inputs, const std::function<int(std::size_t)>& run);
 
 }  // namespace gazedirector::cli
