@@ -499,8 +499,9 @@ TEST(CliGazeTest, BadTargetsAndNoFacesFailCleanly) {
 }
 
 // Several inputs, a folder among them, go into an output folder under their
-// own names, each as a run on it alone would write it; one without a face is
-// reported by name and the rest are still written.
+// own names, each as a run on it alone would write it; a folder's empty file
+// and a photo without a face are reported by name and the rest are still
+// written.
 TEST(CliGazeTest, RedirectsSeveralInputsIntoAFolderAsEachAlone) {
   const fs::path dir = ScratchDir("cli_redirect_batch");
   fs::create_directories(dir / "in");
@@ -544,6 +545,8 @@ TEST(CliGazeTest, RedirectsSeveralInputsIntoAFolderAsEachAlone) {
   EXPECT_EQ(RunCli("redirect " + inputs + " -o " + Quote(dir / "in"), &output), 6) << output;
   EXPECT_NE(output.find("refusing to overwrite the input"), std::string::npos) << output;
   EXPECT_EQ(testing::ReadText(dir / "in" / "d30.jpg"), testing::ReadText(DataPath("images/d30.jpg")));
+  EXPECT_EQ(RunCli("redirect " + inputs + " -o " + Quote(dir / "never") + " --fx -5", &output), 2) << output;
+  EXPECT_NE(output.find("focal lengths must be positive"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(dir / "never") || fs::exists(dir / "never.jpg"));
   EXPECT_TRUE(NoPartialFiles(dir));
 }

@@ -45,6 +45,9 @@ void ApplyLogLevel(const CommonOptions& options);
 struct CameraOptions {
   std::optional<double> fx, fy, cx, cy;
   Camera Resolve(int width, int height) const;
+  // Fails with a usage error where the values given are no camera's,
+  // whatever the image's size: a batch checks them before any work.
+  void Check() const { Resolve(1, 1); }
 };
 void AddCameraOptions(CLI::App& command, CameraOptions& options);
 

@@ -147,6 +147,7 @@ int RunOnOne(const LandmarksOptions& options, MediaKind kind, FaceTracker& track
 // --csv and --overlay name, as a run on it alone searches it, the landmark
 // model loaded once. Every input and output is checked before any work.
 int RunBatch(const LandmarksOptions& options) {
+  options.camera.Check();
   const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
   const FaceModels models = FaceModels::Load(options.common);

@@ -528,6 +528,7 @@ int RunOnOne(RedirectCommandOptions options) {
 int RunBatch(const RedirectCommandOptions& options) {
   namespace fs = std::filesystem;
   if (!options.fits.empty()) Fail(ExitCode::kUsage, "--fits holds one input's fits: give it with one input");
+  options.camera.Check();
   RequireFolderName(options.output, "-o");
   const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
   std::vector<fs::path> outputs;

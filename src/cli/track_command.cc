@@ -197,6 +197,7 @@ void RequireEyePatchImages(const TrackOptions& options, const std::vector<BatchI
 // --csv and --overlay name, as a run on it alone tracks it, the model loaded
 // once. Every input and output is checked before any work.
 int RunBatch(const TrackOptions& options) {
+  options.camera.Check();
   const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
   RequireEyePatchImages(options, inputs);
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
