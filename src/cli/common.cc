@@ -35,6 +35,10 @@ ScopedLogPrefix::~ScopedLogPrefix() {
 
 std::string LogLabel(const std::string& input) { return log_lines_name_their_input ? std::string() : input + ": "; }
 
+FaceModels FaceModels::Load(const Assets& assets) {
+  return {LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir()), LoadMeanFace(assets.mean_face())};
+}
+
 void AddCommonOptions(CLI::App& command, CommonOptions& options) {
   command.add_option("--assets", options.assets,
                      "Model asset folder (default: $GAZEDIRECTOR_ASSETS, else ../shared/assets beside the repository)");

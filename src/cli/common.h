@@ -2,13 +2,17 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "gazedirector/face/landmark_detector.h"
+#include "gazedirector/face/mean_face.h"
 #include "gazedirector/geometry/camera.h"
+#include "gazedirector/io/assets.h"
 #include "gazedirector/io/media.h"
 #include "gazedirector/io/video_reader.h"
 
@@ -30,6 +34,14 @@ class ScopedLogPrefix {
 // "photo.jpg: " to start a log line about `input`, or nothing while a
 // ScopedLogPrefix names it already.
 std::string LogLabel(const std::string& input);
+
+// What a face tracker needs (landmarks, track, redirect), loaded once.
+struct FaceModels {
+  std::shared_ptr<const LandmarkDetector> landmarks;
+  MeanFace mean_face;
+
+  static FaceModels Load(const Assets& assets);
+};
 
 // Options every subcommand takes.
 struct CommonOptions {

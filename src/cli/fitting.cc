@@ -23,18 +23,17 @@ FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOpti
   }
   setup.largest = options.largest;
   setup.model_loading_ = std::async(std::launch::async, [assets] { return EyeRegionModel::Load(assets); }).share();
-  setup.landmarks = LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir());
-  setup.mean_face = LoadMeanFace(assets.mean_face());
+  setup.faces = FaceModels::Load(assets);
   return setup;
 }
 
 GazeTracker FittingSetup::MakeTracker() const {
-  return GazeTracker(model(), landmarks, mean_face, tracker_options, nullptr, largest);
+  return GazeTracker(model(), faces.landmarks, faces.mean_face, tracker_options, nullptr, largest);
 }
 
 std::vector<FaceFit> FittingSetup::FitImage(const cv::Mat& image, const Camera& camera) const {
-  FaceTracker faces(landmarks, mean_face, GazeTracker::FaceOptions(largest));
-  const std::vector<Face> found = faces.DetectFaces(image, camera);
+  FaceTracker tracker(faces.landmarks, faces.mean_face, GazeTracker::FaceOptions(largest));
+  const std::vector<Face> found = tracker.DetectFaces(image, camera);
   return MakeTracker().FitImageFaces(image, camera, found);
 }
 

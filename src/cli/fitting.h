@@ -28,8 +28,7 @@ void AddFittingOptions(CLI::App& command, FittingOptions& options);
 // in the background from Create on, while the input is opened and its faces
 // searched for; model() waits for it and rethrows its errors.
 struct FittingSetup {
-  std::shared_ptr<const LandmarkDetector> landmarks;
-  MeanFace mean_face;
+  FaceModels faces;
   GazeTrackerOptions tracker_options;
   bool largest = false;
 

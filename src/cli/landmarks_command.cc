@@ -121,23 +121,14 @@ int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
   return 0;
 }
 
-// The face tracker's models, loaded once; each input gets a tracker of its
-// own, so that a video's face ids start at 0 as on a run of it alone.
-struct FaceModels {
-  std::shared_ptr<const LandmarkDetector> landmarks;
-  MeanFace mean_face;
-
-  static FaceModels Load(const CommonOptions& common) {
-    const Assets assets = Assets::Resolve(common.assets);
-    return {LandmarkDetector::Load(assets.landmark_model(), Assets::CacheDir()), LoadMeanFace(assets.mean_face())};
-  }
-  FaceTracker MakeTracker(const LandmarksOptions& options) const {
-    FaceTrackerOptions tracker_options;
-    tracker_options.largest_only = options.largest;
-    tracker_options.smooth = !options.no_smoothing;
-    return FaceTracker(landmarks, mean_face, tracker_options);
-  }
-};
+// Each input gets a tracker of its own, so that a video's face ids start at 0
+// as on a run of it alone.
+FaceTracker MakeTracker(const FaceModels& models, const LandmarksOptions& options) {
+  FaceTrackerOptions tracker_options;
+  tracker_options.largest_only = options.largest;
+  tracker_options.smooth = !options.no_smoothing;
+  return FaceTracker(models.landmarks, models.mean_face, tracker_options);
+}
 
 int RunOnOne(const LandmarksOptions& options, MediaKind kind, FaceTracker& tracker) {
   return kind == MediaKind::kImage ? RunOnImage(options, tracker) : RunOnVideo(options, tracker);
@@ -150,9 +141,9 @@ int RunBatch(const LandmarksOptions& options) {
   options.camera.Check();
   const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
-  const FaceModels models = FaceModels::Load(options.common);
+  const FaceModels models = FaceModels::Load(Assets::Resolve(options.common.assets));
   return RunEachInput(inputs, [&](std::size_t i) {
-    FaceTracker tracker = models.MakeTracker(options);
+    FaceTracker tracker = MakeTracker(models, options);
     return RunOnOne(OptionsForInput(options, inputs[i], outputs[i]), inputs[i].kind, tracker);
   });
 }
@@ -163,7 +154,7 @@ int RunLandmarks(LandmarksOptions options) {
   options.input = options.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
-  FaceTracker tracker = FaceModels::Load(options.common).MakeTracker(options);
+  FaceTracker tracker = MakeTracker(FaceModels::Load(Assets::Resolve(options.common.assets)), options);
   return RunOnOne(options, kind, tracker);
 }
 

@@ -65,8 +65,9 @@ void WriteRecords(const TrackOptions& options, const nlohmann::json& record, con
   }
 }
 
-// `reader`: the appearance prior loaded beforehand (a batch's), else loaded here.
-int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup, const AppearanceGaze* reader) {
+// `reader`: the appearance prior, loaded at its first use and kept for a
+// batch's next eye patches.
+int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup, std::optional<AppearanceGaze>& reader) {
   const std::vector<std::filesystem::path> inputs = {options.input};
   const cv::Mat crop = ReadImage(options.input);
   const int eye = options.eye_patch == "left" ? kLeftEye : kRightEye;
@@ -76,7 +77,8 @@ int RunOnEyePatch(const TrackOptions& options, const FittingSetup& setup, const 
   // head yaw starts (off at weight 0), read while the eye-region model loads.
   AppearanceReading appearance;
   if (fit_options.weights.UsesAppearance()) {
-    appearance = reader ? reader->Read(crop, eye) : AppearanceGaze::Load(DefaultAppearanceModelPath()).Read(crop, eye);
+    if (!reader) reader = AppearanceGaze::Load(DefaultAppearanceModelPath());
+    appearance = reader->Read(crop, eye);
   }
   Fitter fitter(setup.model(), fit_options);
   FaceFit fit;
@@ -179,7 +181,7 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
 }
 
 int RunOnOne(const TrackOptions& options, MediaKind kind, const FittingSetup& setup,
-             const AppearanceGaze* appearance = nullptr) {
+             std::optional<AppearanceGaze>& appearance) {
   if (!options.eye_patch.empty()) return RunOnEyePatch(options, setup, appearance);
   return kind == MediaKind::kImage ? RunOnImage(options, setup) : RunOnVideo(options, setup);
 }
@@ -203,12 +205,8 @@ int RunBatch(const TrackOptions& options) {
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   std::optional<AppearanceGaze> appearance;  // eye patches' prior, read once for them all
-  if (!options.eye_patch.empty() && EyePatchFitOptions(options.fitting.fit).weights.UsesAppearance()) {
-    appearance = AppearanceGaze::Load(DefaultAppearanceModelPath());
-  }
   return RunEachInput(inputs, [&](std::size_t i) {
-    return RunOnOne(OptionsForInput(options, inputs[i], outputs[i]), inputs[i].kind, setup,
-                    appearance ? &*appearance : nullptr);
+    return RunOnOne(OptionsForInput(options, inputs[i], outputs[i]), inputs[i].kind, setup, appearance);
   });
 }
 
@@ -220,7 +218,8 @@ int RunTrack(TrackOptions options) {
   RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
   RequireEyePatchImages(options, {{options.input, kind, ""}});
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
-  return RunOnOne(options, kind, setup);
+  std::optional<AppearanceGaze> appearance;
+  return RunOnOne(options, kind, setup, appearance);
 }
 
 }  // namespace
