@@ -86,6 +86,37 @@ for spec in 200:195 300:175 400:185; do  # frame:top of the eye band
 done
 ffmpeg -v error -y "${rows[@]}" -filter_complex vstack=3 "$out/known_failure_d10.png"
 
+# The targets the Hsu et al. (2019) peer's pictures show (../shared/peers/hsu2019/verify), on the same
+# stills' eye bands, so that the two can be held side by side: offsets from the fitted gaze (up, and
+# toward the image's left or right), then eye contact.
+font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
+for name_crop in d19:354:104:191:283 d30:199:58:139:237 s42:245:72:136:223; do
+  name=${name_crop%%:*} crop=${name_crop#*:}
+  cells=()
+  for spec in input: "0,0:as fitted" "10,0:up 10" "-10,0:down 10" "0,-10:left 10" "0,10:right 10" "20,0:up 20" camera:camera; do
+    offset=${spec%%:*} label=${spec#*:}
+    src=$data/images/$name.jpg
+    if [ "$offset" = camera ]; then
+      src="$tmp/peer_${name}_camera.png"
+      $gd redirect $data/images/$name.jpg -o "$src" --look-at camera -q
+    elif [ "$offset" != input ]; then
+      src="$tmp/peer_${name}_$offset.png"
+      $gd redirect $data/images/$name.jpg -o "$src" --offset="$offset" -q
+    fi
+    [ "$offset" = input ] && label=input
+    text=""
+    [ -f "$font" ] && text=",drawtext=fontfile=$font:text='$name $label':x=6:y=6:fontsize=18:fontcolor=yellow"
+    ffmpeg -v error -y -i "$src" -vf "crop=$crop,scale=408:120:flags=lanczos$text" "$tmp/peer_${name}_${#cells[@]}.png"
+    cells+=("$tmp/peer_${name}_${#cells[@]}.png")
+  done
+  ffmpeg -v error -y -i "${cells[0]}" -i "${cells[1]}" -i "${cells[2]}" -i "${cells[3]}" -filter_complex hstack=4 "$tmp/peer_a_$name.png"
+  ffmpeg -v error -y -i "${cells[4]}" -i "${cells[5]}" -i "${cells[6]}" -i "${cells[7]}" -filter_complex hstack=4 "$tmp/peer_b_$name.png"
+done
+for part in a b; do
+  ffmpeg -v error -y -i "$tmp/peer_${part}_d19.png" -i "$tmp/peer_${part}_d30.png" -i "$tmp/peer_${part}_s42.png" \
+    -filter_complex vstack=3 -q:v 3 "$out/peer_targets_$part.jpg"
+done
+
 # Evaluation figures.
 $gd eval redirect-columbia --plot "$out/eval_redirect_columbia.png" -q > "$tmp/redirect_columbia.txt"
 # The paper's protocol (head pose 0, no glasses), as the README's accuracy table; about 3 minutes.
