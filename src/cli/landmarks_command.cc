@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/analysis_writers.h"
 #include "cli/batch.h"
 #include "cli/common.h"
 #include "gazedirector/face/face_io.h"
@@ -15,7 +16,6 @@
 #include "gazedirector/io/media.h"
 #include "gazedirector/io/text_writer.h"
 #include "gazedirector/io/video_reader.h"
-#include "gazedirector/io/video_writer.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
 #include "gazedirector/util/progress.h"
@@ -48,8 +48,7 @@ int RunOnImage(const LandmarksOptions& options, FaceTracker& tracker) {
   std::optional<CsvWriter> csv;
   if (!options.csv.empty()) {
     csv.emplace(options.csv, FaceCsvColumns(), inputs);
-    if (faces.empty()) csv->AddRow(FaceCsvRow(0, 0, nullptr));
-    for (const Face& face : faces) csv->AddRow(FaceCsvRow(0, 0, &face));
+    for (const std::vector<std::string>& row : CsvRows(0, 0, faces, FaceCsvRow)) csv->AddRow(row);
   }
   cv::Mat overlay;
   if (!options.overlay.empty()) {
@@ -69,54 +68,38 @@ int RunOnImage(const LandmarksOptions& options, FaceTracker& tracker) {
 }
 
 int RunOnVideo(const LandmarksOptions& options, FaceTracker& tracker) {
-  const std::vector<std::filesystem::path> inputs = {options.input};
   VideoReader reader(options.input);
   const VideoInfo& info = reader.info();
   const Camera camera = options.camera.Resolve(info.width, info.height);
-
-  TextWriter json(options.output, inputs);
-  std::optional<CsvWriter> csv;
-  if (!options.csv.empty()) csv.emplace(options.csv, FaceCsvColumns(), inputs);
-  std::optional<VideoWriter> overlay;
-  if (!options.overlay.empty()) {
-    overlay.emplace(options.overlay, WriterOptionsFor(options.input, info), inputs);
-  }
+  VideoAnalysisWriters out(options.input, info, options.output, options.csv, FaceCsvColumns(), options.overlay);
 
   Progress progress("landmarks", info.frame_count, "frames", options.common.quiet);
   cv::Mat frame;
   long frames_with_faces = 0;
   while (reader.Read(frame)) {
     ThrowIfInterrupted();
+    const long index = reader.frame_index();
     const double timestamp = reader.timestamp_s();
     const std::vector<Face> faces = tracker.TrackFrame(frame, timestamp, camera);
     frames_with_faces += faces.empty() ? 0 : 1;
 
-    nlohmann::json line = {
-        {"frame", reader.frame_index()}, {"timestamp", RoundTo(timestamp, 4)}, {"faces", nlohmann::json::array()}};
-    if (reader.frame_index() == 0) line["camera"] = ToJson(camera);
+    nlohmann::json line = {{"frame", index}, {"timestamp", RoundTo(timestamp, 4)}, {"faces", nlohmann::json::array()}};
+    if (index == 0) line["camera"] = ToJson(camera);
     for (const Face& face : faces) line["faces"].push_back(ToJson(face));
-    json.stream() << line.dump() << '\n';
-    if (csv) {
-      if (faces.empty()) csv->AddRow(FaceCsvRow(reader.frame_index(), timestamp, nullptr));
-      for (const Face& face : faces) csv->AddRow(FaceCsvRow(reader.frame_index(), timestamp, &face));
-    }
-    if (overlay) {
+    out.AddLine(line);
+    if (out.writes_csv()) out.AddCsvRows(CsvRows(index, timestamp, faces, FaceCsvRow));
+    if (out.writes_overlay()) {
       for (const Face& face : faces) DrawFace(frame, face, camera);
-      overlay->Write(frame, timestamp);
+      out.AddOverlayFrame(frame, timestamp);
     }
-    progress.Update(reader.frame_index() + 1);
+    progress.Update(index + 1);
   }
   progress.Finish();
   WarnIfTruncated(reader, options.input);
-  json.Finish();
-  if (csv) csv->Finish();
-  if (overlay) overlay->Finish();
+  out.Finish();
 
   const long frames = reader.frame_index() + 1;
-  if (frames_with_faces == 0) {
-    spdlog::warn("no face found in any of the {} frames of {}", frames, options.input);
-    return static_cast<int>(ExitCode::kNoFace);
-  }
+  if (frames_with_faces == 0) return NoFaceInVideo(frames, options.input);
   spdlog::info("{}faces in {} of {} frames -> {}", LogLabel(options.input), frames_with_faces, frames, options.output);
   return 0;
 }

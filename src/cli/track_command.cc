@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/analysis_writers.h"
 #include "cli/batch.h"
 #include "cli/common.h"
 #include "cli/fitting.h"
@@ -19,7 +20,6 @@
 #include "gazedirector/io/media.h"
 #include "gazedirector/io/text_writer.h"
 #include "gazedirector/io/video_reader.h"
-#include "gazedirector/io/video_writer.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
 #include "gazedirector/util/progress.h"
@@ -59,8 +59,7 @@ void WriteRecords(const TrackOptions& options, const nlohmann::json& record, con
   WriteTextFile(options.output, lines ? record.dump() + "\n" : PrettyJson(record) + "\n", inputs);
   if (!options.csv.empty()) {
     CsvWriter csv(options.csv, FitCsvColumns(), inputs);
-    if (fits.empty()) csv.AddRow(FitCsvRow(0, 0, nullptr));
-    for (const FaceFit& fit : fits) csv.AddRow(FitCsvRow(0, 0, &fit));
+    for (const std::vector<std::string>& row : CsvRows(0, 0, fits, FitCsvRow)) csv.AddRow(row);
     csv.Finish();
   }
 }
@@ -127,19 +126,11 @@ int RunOnImage(const TrackOptions& options, const FittingSetup& setup) {
 }
 
 int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
-  const std::vector<std::filesystem::path> inputs = {options.input};
   VideoReader reader(options.input);
   const VideoInfo& info = reader.info();
   const Camera camera = options.camera.Resolve(info.width, info.height);
   GazeTracker tracker = setup.MakeTracker();
-
-  TextWriter json(options.output, inputs);
-  std::optional<CsvWriter> csv;
-  if (!options.csv.empty()) csv.emplace(options.csv, FitCsvColumns(), inputs);
-  std::optional<VideoWriter> overlay;
-  if (!options.overlay.empty()) {
-    overlay.emplace(options.overlay, WriterOptionsFor(options.input, info), inputs);
-  }
+  VideoAnalysisWriters out(options.input, info, options.output, options.csv, FitCsvColumns(), options.overlay);
   Renderer renderer(setup.model());
   Progress progress("track", info.frame_count, "frames", options.common.quiet);
   long frames_with_faces = 0, poor_fits = 0, fits_made = 0;
@@ -153,28 +144,20 @@ int RunOnVideo(const TrackOptions& options, const FittingSetup& setup) {
     const std::vector<FaceFit> fits = tracker.FitFaces(frame, timestamp, camera, tracked.faces);
     frames_with_faces += fits.empty() ? 0 : 1;
     for (const FaceFit& fit : fits) poor_fits += fit.fit.good ? 0 : 1, ++fits_made;
-    json.stream() << FrameRecord(index, timestamp, fits, index == 0 ? &camera : nullptr).dump() << '\n';
-    if (csv) {
-      if (fits.empty()) csv->AddRow(FitCsvRow(index, timestamp, nullptr));
-      for (const FaceFit& fit : fits) csv->AddRow(FitCsvRow(index, timestamp, &fit));
-    }
-    if (overlay) {
+    out.AddLine(FrameRecord(index, timestamp, fits, index == 0 ? &camera : nullptr));
+    if (out.writes_csv()) out.AddCsvRows(CsvRows(index, timestamp, fits, FitCsvRow));
+    if (out.writes_overlay()) {
       for (const FaceFit& fit : fits) DrawFit(frame, camera, fit.fit.phi, fit.fit.good, fit.eyes, renderer);
-      overlay->Write(frame, timestamp);
+      out.AddOverlayFrame(frame, timestamp);
     }
     progress.Update(index + 1);
   }
   progress.Finish();
   WarnIfTruncated(reader, options.input);
-  json.Finish();
-  if (csv) csv->Finish();
-  if (overlay) overlay->Finish();
+  out.Finish();
 
   const long frames = reader.frame_index() + 1;
-  if (frames_with_faces == 0) {
-    spdlog::warn("no face found in any of the {} frames of {}", frames, options.input);
-    return static_cast<int>(ExitCode::kNoFace);
-  }
+  if (frames_with_faces == 0) return NoFaceInVideo(frames, options.input);
   spdlog::info("{}{} fits in {} frames ({:.1f} frames/s), {} poor -> {}", LogLabel(options.input), fits_made, frames,
                frames / progress.elapsed_s(), poor_fits, options.output);
   return 0;
