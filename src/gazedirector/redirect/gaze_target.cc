@@ -61,7 +61,7 @@ std::string GazeTarget::Describe() const {
     case Kind::kPoint: return fmt::format("the point ({:.0f}, {:.0f}, {:.0f}) mm", point.x(), point.y(), point.z());
     case Kind::kDirection:
       return fmt::format("pitch {:.1f} yaw {:.1f} deg ({} frame)", pitch_deg, yaw_deg, frame == Frame::kHead ? "head" : "camera");
-    case Kind::kOffset: return fmt::format("the fitted gaze {:+.1f} pitch {:+.1f} yaw deg", pitch_deg, yaw_deg);
+    case Kind::kOffset: return fmt::format("the fitted gaze moved by pitch {:+.1f} yaw {:+.1f} deg", pitch_deg, yaw_deg);
   }
   return "";
 }
