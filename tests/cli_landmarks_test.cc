@@ -126,8 +126,8 @@ TEST(CliLandmarksTest, BadInputsGetOneLineErrorsAndLeaveNoOutput) {
 TEST(CliLandmarksTest, AnUnknownCommandIsNamedWithTheKnownOnes) {
   std::string output;
   EXPECT_EQ(RunCli("landmark " + Quote(DataPath("images/s42.jpg")), &output), 2) << output;
-  EXPECT_NE(output.find("gazedirector: error: unknown command 'landmark' (one of landmarks, bench, eval, render, track, "
-                        "redirect, train-appearance)"),
+  EXPECT_NE(output.find("gazedirector: error: unknown command 'landmark' (one of redirect, track, landmarks, render, bench, "
+                        "eval, train-appearance)"),
             std::string::npos)
       << output;
   EXPECT_EQ(RunCli("eval columbi", &output), 2) << output;
@@ -148,7 +148,7 @@ TEST(CliLandmarksTest, UsageErrorsAreOneLineNamingTheCommandsHelp) {
       {"track " + Quote(DataPath("images/s42.jpg")) + " -o fits.json --eye-patch top",
        "gazedirector: error: --eye-patch: top not in {left,right} (see gazedirector track --help)\n"},
       {"eval columbia --every 0", "(see gazedirector eval columbia --help)\n"},
-      {"", "gazedirector: error: no command given: one of landmarks, bench, eval, render, track, redirect, "
+      {"", "gazedirector: error: no command given: one of redirect, track, landmarks, render, bench, eval, "
            "train-appearance (see gazedirector --help)\n"},
       {"eval --json", "gazedirector: error: no eval command given: one of landmarks, columbia, redirect-columbia, iris "
                       "(see gazedirector eval --help)\n"},

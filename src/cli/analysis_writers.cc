@@ -10,8 +10,9 @@ VideoAnalysisWriters::VideoAnalysisWriters(const std::string& input, const Video
                                            const std::string& csv, std::vector<std::string> csv_columns,
                                            const std::string& overlay)
     : json_(output, {input}) {
-  if (!csv.empty()) csv_.emplace(csv, std::move(csv_columns), std::vector<std::filesystem::path>{input});
-  if (!overlay.empty()) overlay_.emplace(overlay, WriterOptionsFor(input, info), std::vector<std::filesystem::path>{input});
+  const std::vector<std::filesystem::path> inputs = {input};
+  if (!csv.empty()) csv_.emplace(csv, std::move(csv_columns), inputs);
+  if (!overlay.empty()) overlay_.emplace(overlay, WriterOptionsFor(input, info), inputs);
 }
 
 void VideoAnalysisWriters::AddCsvRows(const std::vector<std::vector<std::string>>& rows) {

@@ -101,9 +101,11 @@ int main(int argc, char** argv) {
                "gazedirector");
   app.require_subcommand(1);
   app.set_version_flag("--version", "gazedirector 0.1.0");
-  std::vector<cli::Command> commands = {cli::RegisterLandmarksCommand(app), cli::RegisterBenchCommand(app),
-                                        cli::RegisterEvalCommand(app), cli::RegisterRenderCommand(app),
-                                        cli::RegisterTrackCommand(app), cli::RegisterRedirectCommand(app),
+  // --help lists them in this order: what most users run first, then the
+  // tools that measure it.
+  std::vector<cli::Command> commands = {cli::RegisterRedirectCommand(app), cli::RegisterTrackCommand(app),
+                                        cli::RegisterLandmarksCommand(app), cli::RegisterRenderCommand(app),
+                                        cli::RegisterBenchCommand(app), cli::RegisterEvalCommand(app),
                                         cli::RegisterTrainCommand(app)};
   if (ReportUnknownCommand(app, argc, argv)) return static_cast<int>(ExitCode::kUsage);
   try {
