@@ -58,30 +58,54 @@ fs::path ColumbiaDirOrDefault(const std::string& dir) {
   return dir.empty() ? DefaultDataDir() / "columbia-eyes" : fs::path(dir);
 }
 
+namespace {
+
+bool Decodes(const fs::path& path) {
+  try {
+    return !ReadImage(path).empty();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
+
 std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path>* skipped) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) Fail(ExitCode::kBadInput, "{}: not a folder of Columbia crops", dir.string());
   std::vector<ColumbiaCrop> crops;
-  std::vector<fs::path> others;
+  std::vector<fs::path> others, unreadable;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::error_code file_ec;
     if (!entry.is_regular_file(file_ec)) continue;
     ColumbiaCrop crop;
-    if (ParseColumbiaName(entry.path(), crop)) {
-      crops.push_back(crop);
-    } else {
+    if (!ParseColumbiaName(entry.path(), crop)) {
       others.push_back(entry.path());
+    } else if (!Decodes(entry.path())) {
+      unreadable.push_back(entry.path());
+    } else {
+      crops.push_back(crop);
     }
   }
   if (ec) Fail(ExitCode::kBadInput, "{}: cannot list the folder: {}", dir.string(), ec.message());
   std::sort(crops.begin(), crops.end(), [](const ColumbiaCrop& a, const ColumbiaCrop& b) { return a.path < b.path; });
   std::sort(others.begin(), others.end());
-  if (crops.empty()) Fail(ExitCode::kBadInput, "{}: no files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
+  std::sort(unreadable.begin(), unreadable.end());
+  if (crops.empty()) {
+    Fail(ExitCode::kBadInput, "{}: no readable files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
+  }
   if (!others.empty()) {
     spdlog::warn("{}: skipped {} file(s) not named like 0001_2m_0P_0V_0H_L.jpg (first: {})", dir.string(),
                  others.size(), others.front().filename().string());
   }
-  if (skipped != nullptr) *skipped = std::move(others);
+  if (!unreadable.empty()) {
+    spdlog::warn("{}: left out {} crop(s) that cannot be read as images (first: {})", dir.string(), unreadable.size(),
+                 unreadable.front().filename().string());
+  }
+  if (skipped != nullptr) {
+    others.insert(others.end(), unreadable.begin(), unreadable.end());
+    *skipped = std::move(others);
+  }
   return crops;
 }
 

@@ -1,6 +1,7 @@
 #include "gazedirector/eval/columbia.h"
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 
@@ -37,7 +38,8 @@ TEST(ColumbiaTest, NamesGiveLabelsAndTheirPhoto) {
 }
 
 // A folder with other files beside the crops: the crops are listed in name
-// order, the other files reported as skipped, a subfolder left alone.
+// order, the other files and a crop that cannot be decoded reported as
+// skipped (one bad file must not stop a long evaluation), a subfolder left alone.
 TEST(ColumbiaTest, ListingSkipsOtherFilesAndSaysWhich) {
   const std::filesystem::path dir = testing::ScratchDir("columbia_listing");
   const std::filesystem::path source = testing::DataPath("columbia-eyes");
@@ -48,14 +50,16 @@ TEST(ColumbiaTest, ListingSkipsOtherFilesAndSaysWhich) {
   std::filesystem::copy_file(source / "0005_2m_0P_0V_0H_R.jpg", dir / "0005_2m_0P_0V_0H_R.JPG");
   std::filesystem::create_directory(dir / "0005_2m_0P_0V_0H_R.jpg");  // a folder named like a crop
   std::filesystem::create_directory(dir / "more");
+  std::ofstream(dir / "0005_2m_0P_10V_0H_L.jpg") << "not a picture";
   std::vector<std::filesystem::path> skipped;
   const std::vector<ColumbiaCrop> crops = ListColumbia(dir, &skipped);
   ASSERT_EQ(crops.size(), 2u);
   EXPECT_EQ(crops[0].path.filename(), "0005_2m_0P_0V_0H_L.jpg");
   EXPECT_EQ(crops[1].path.filename(), "0005_2m_15P_10V_5H_R.jpg");
-  ASSERT_EQ(skipped.size(), 2u);
+  ASSERT_EQ(skipped.size(), 3u);
   EXPECT_EQ(skipped[0].filename(), "0005_2m_0P_0V_0H_R.JPG");
   EXPECT_EQ(skipped[1].filename(), "photo.jpg");
+  EXPECT_EQ(skipped[2].filename(), "0005_2m_0P_10V_0H_L.jpg");
 }
 
 TEST(ColumbiaTest, LabelsAreRelativeToTheCameraAndTurnedByTheHeadInItsFrame) {
