@@ -91,8 +91,12 @@ std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path
   std::sort(crops.begin(), crops.end(), [](const ColumbiaCrop& a, const ColumbiaCrop& b) { return a.path < b.path; });
   std::sort(others.begin(), others.end());
   std::sort(unreadable.begin(), unreadable.end());
+  if (crops.empty() && unreadable.empty()) {
+    Fail(ExitCode::kBadInput, "{}: no files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
+  }
   if (crops.empty()) {
-    Fail(ExitCode::kBadInput, "{}: no readable files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
+    Fail(ExitCode::kBadInput, "{}: none of its {} crops can be read as an image (first: {})", dir.string(),
+         unreadable.size(), unreadable.front().filename().string());
   }
   if (!others.empty()) {
     spdlog::warn("{}: skipped {} file(s) not named like 0001_2m_0P_0V_0H_L.jpg (first: {})", dir.string(),
