@@ -95,7 +95,7 @@ std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path
     Fail(ExitCode::kBadInput, "{}: no files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
   }
   if (crops.empty()) {
-    Fail(ExitCode::kBadInput, "{}: none of its {} crops can be read as an image (first: {})", dir.string(),
+    Fail(ExitCode::kBadInput, "{}: none of its {} crop(s) can be read as an image (first: {})", dir.string(),
          unreadable.size(), unreadable.front().filename().string());
   }
   if (!others.empty()) {

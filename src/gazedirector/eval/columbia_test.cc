@@ -10,6 +10,7 @@
 
 #include "gazedirector/fit/fit_options.h"
 #include "gazedirector/geometry/rotation.h"
+#include "gazedirector/util/error.h"
 
 #include "tests/test_data.h"
 
@@ -60,6 +61,16 @@ TEST(ColumbiaTest, ListingSkipsOtherFilesAndSaysWhich) {
   EXPECT_EQ(skipped[0].filename(), "0005_2m_0P_0V_0H_R.JPG");
   EXPECT_EQ(skipped[1].filename(), "photo.jpg");
   EXPECT_EQ(skipped[2].filename(), "0005_2m_0P_10V_0H_L.jpg");
+  // A folder of nothing but such crops says so.
+  const std::filesystem::path broken = testing::ScratchDir("columbia_listing_broken");
+  std::ofstream(broken / "0005_2m_0P_10V_0H_L.jpg") << "not a picture";
+  try {
+    ListColumbia(broken);
+    ADD_FAILURE() << "a folder of unreadable crops was listed";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ExitCode::kBadInput);
+    EXPECT_NE(std::string(error.what()).find("none of its 1 crop(s) can be read"), std::string::npos) << error.what();
+  }
 }
 
 TEST(ColumbiaTest, LabelsAreRelativeToTheCameraAndTurnedByTheHeadInItsFrame) {
