@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <regex>
 #include <set>
@@ -16,6 +17,7 @@
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/io/assets.h"
 #include "gazedirector/io/image_io.h"
+#include "gazedirector/io/media.h"
 #include "gazedirector/redirect/gaze_target.h"
 #include "gazedirector/util/error.h"
 #include "gazedirector/util/interrupt.h"
@@ -60,8 +62,14 @@ fs::path ColumbiaDirOrDefault(const std::string& dir) {
 
 namespace {
 
-bool Decodes(const fs::path& path) {
+// Whether a crop can be read, from its JPEG or PNG header where it has one
+// (whole and sized), else by decoding it: every crop is decoded later anyway,
+// and a listing of thousands should not decode them all once more.
+bool Readable(const fs::path& path) {
   try {
+    if (const std::optional<ImageHeader> header = ProbeImageHeader(path)) {
+      return header->complete && header->width > 0 && header->height > 0;
+    }
     return !ReadImage(path).empty();
   } catch (const std::exception&) {
     return false;
@@ -81,7 +89,7 @@ std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path
     ColumbiaCrop crop;
     if (!ParseColumbiaName(entry.path(), crop)) {
       others.push_back(entry.path());
-    } else if (!Decodes(entry.path())) {
+    } else if (!Readable(entry.path())) {
       unreadable.push_back(entry.path());
     } else {
       crops.push_back(crop);
