@@ -106,9 +106,7 @@ std::vector<AnalysisOutputs> PlanAnalysisOutputs(const std::vector<BatchInput>& 
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     AnalysisOutputs one{outputs[i].string(), csv.empty() ? "" : csvs[i].string(),
                         overlay.empty() ? "" : overlays[i].string()};
-    if (inputs[i].unreadable.empty()) {
-      RequireAnalysisOutputs(one.output, one.csv, one.overlay, inputs[i].kind, inputs[i].path.string());
-    }
+    RequireAnalysisOutputs(one.output, one.csv, one.overlay, inputs[i].kind, inputs[i].path.string());
     planned.push_back(one);
   }
   return planned;

@@ -537,7 +537,7 @@ int RunBatch(const RedirectCommandOptions& options) {
   RequireWritableFolder(options.output, "-o");
   RequireWritableFolder(options.debug_dir, "--debug-dir");
   for (std::size_t i = 0; i < inputs.size(); ++i) {
-    if (inputs[i].unreadable.empty()) RequireOutputKind(outputs[i].string(), "-o", inputs[i].kind, inputs[i].path.string());
+    RequireOutputKind(outputs[i].string(), "-o", inputs[i].kind, inputs[i].path.string());
   }
   const bool any_video =
       std::any_of(inputs.begin(), inputs.end(), [](const BatchInput& input) { return input.kind == MediaKind::kVideo; });
