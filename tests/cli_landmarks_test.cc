@@ -231,6 +231,42 @@ TEST(CliLandmarksTest, SeveralInputsGoIntoFoldersAsEachAlone) {
   EXPECT_FALSE(fs::exists(dir / "never"));
 }
 
+// A folder's subfolders are read only with --recursive, and their outputs go
+// into subfolders of the same names; an output folder inside the input folder
+// is not read back as input.
+TEST(CliLandmarksTest, RecursiveFoldersKeepTheirSubfoldersInTheOutputs) {
+  const fs::path dir = ScratchDir("cli_landmarks_recursive");
+  fs::create_directories(dir / "album" / "2024");
+  fs::copy_file(DataPath("images/s12.jpg"), dir / "album" / "s12.jpg", fs::copy_options::overwrite_existing);
+  fs::copy_file(DataPath("images/s12.jpg"), dir / "album" / "2024" / "s12.jpg", fs::copy_options::overwrite_existing);
+  std::string output;
+  ASSERT_EQ(RunCli("landmarks " + Quote(dir / "album") + " -o " + Quote(dir / "flat"), &output), 0) << output;
+  EXPECT_NE(output.find("1 image(s) or video(s) in its subfolders left out; --recursive reads them"), std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(dir / "flat" / "2024"));
+
+  for (int run = 0; run < 2; ++run) {  // the second run finds the first one's outputs inside the album
+    ASSERT_EQ(RunCli("landmarks -r " + Quote(dir / "album") + "/ -o " + Quote(dir / "album" / "fits") + " --csv " +
+                         Quote(dir / "album" / "csv"),
+                     &output),
+              0)
+        << output;
+    EXPECT_NE(output.find("info: [1/2] 2024/s12.jpg: 1 face -> "), std::string::npos) << output;
+    EXPECT_NE(output.find("all 2 inputs done"), std::string::npos) << output;
+  }
+  const nlohmann::json nested = nlohmann::json::parse(ReadText(dir / "album" / "fits" / "2024" / "s12.json"));
+  EXPECT_EQ(nested["input"], (dir / "album" / "2024" / "s12.jpg").string());
+  EXPECT_EQ(nested["faces"], nlohmann::json::parse(ReadText(dir / "flat" / "s12.json"))["faces"]);
+  EXPECT_EQ(ReadText(dir / "album" / "csv" / "2024" / "s12.csv"), ReadText(dir / "album" / "csv" / "s12.csv"));
+
+  fs::remove(dir / "album" / "s12.jpg");
+  EXPECT_EQ(RunCli("landmarks " + Quote(dir / "album") + " -o " + Quote(dir / "never"), &output), 4) << output;
+  EXPECT_NE(output.find("the folder holds no images or videos, but its subfolders hold 1 (--recursive reads them)"),
+            std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(dir / "never"));
+}
+
 // A variable-rate video (as phones and screen recorders write) keeps each
 // frame's time in the fits and in the overlay, which holds frames over the
 // sparse stretches instead of squeezing all frames to the average rate.

@@ -37,20 +37,34 @@ bool IsBatch(const std::vector<std::string>& inputs, const std::string& output) 
   return inputs.size() > 1 || std::any_of(inputs.begin(), inputs.end(), IsFolder) || IsFolder(output);
 }
 
-std::vector<BatchInput> ExpandBatchInputs(const std::vector<std::string>& inputs) {
+void AddBatchInputOptions(CLI::App& app, BatchInputOptions& options) {
+  app.add_option("input", options.inputs, "Image or video files, or folders of them")->required();
+  app.add_flag("-r,--recursive", options.recursive,
+               "Read folders' subfolders too; their outputs go into subfolders of the same names");
+}
+
+std::vector<BatchInput> ExpandBatchInputs(const BatchInputOptions& options, const std::vector<std::string>& outputs) {
+  const std::vector<fs::path> skipped(outputs.begin(), outputs.end());
   std::vector<BatchInput> expanded;
-  for (const std::string& given : inputs) {
+  for (const std::string& given : options.inputs) {
     if (!IsFolder(given)) {
-      expanded.push_back({given, DetectMediaKind(given), ""});
+      expanded.push_back({given, DetectMediaKind(given), "", fs::path(given).filename()});
       continue;
     }
-    const std::vector<fs::path> listed = MediaFilesIn(given);
+    const std::vector<fs::path> listed = MediaFilesIn(given, options.recursive, skipped);
+    const std::size_t below = options.recursive ? 0 : MediaFilesIn(given, true, skipped).size() - listed.size();
+    if (listed.empty() && below > 0) {
+      Fail(ExitCode::kBadInput, "{}: the folder holds no images or videos, but its subfolders hold {} (--recursive reads them)",
+           given, below);
+    }
     if (listed.empty()) Fail(ExitCode::kBadInput, "{}: the folder holds no images or videos", given);
+    if (below > 0) spdlog::info("{}: {} image(s) or video(s) in its subfolders left out; --recursive reads them", given, below);
     for (const fs::path& path : listed) {
+      const fs::path name = path.lexically_relative(given);
       try {
-        expanded.push_back({path, DetectMediaKind(path), ""});
+        expanded.push_back({path, DetectMediaKind(path), "", name});
       } catch (const Error& e) {
-        expanded.push_back({path, HasVideoExtension(path) ? MediaKind::kVideo : MediaKind::kImage, e.what()});
+        expanded.push_back({path, HasVideoExtension(path) ? MediaKind::kVideo : MediaKind::kImage, e.what(), name});
       }
     }
   }
@@ -67,7 +81,7 @@ void RequireFolderName(const std::string& folder, const std::string& option) {
 }
 
 fs::path BatchOutputPath(const fs::path& folder, const BatchInput& input, const std::string& extension) {
-  fs::path name = input.path.filename();
+  fs::path name = input.name;
   if (!extension.empty()) return folder / name.replace_extension(extension);
   if (input.kind == MediaKind::kImage && !IsImagePath(name)) name.replace_extension(".png");
   if (input.kind == MediaKind::kVideo && !HasVideoExtension(name)) name.replace_extension(".mp4");
@@ -117,7 +131,7 @@ int RunEachInput(const std::vector<BatchInput>& inputs, const std::function<int(
   int exit_code = 0;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     ThrowIfInterrupted();
-    const std::string name = inputs[i].path.filename().string();
+    const std::string name = inputs[i].name.string();
     int code = 0;
     {
       const ScopedLogPrefix prefix(fmt::format("[{}/{}] {}: ", i + 1, inputs.size(), name));

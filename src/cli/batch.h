@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "gazedirector/io/media.h"
 
 namespace gazedirector::cli {
@@ -16,26 +18,37 @@ namespace gazedirector::cli {
 struct BatchInput {
   std::filesystem::path path;
   MediaKind kind;
-  std::string unreadable;  // why a file found in a folder cannot be read (empty: it can); its turn reports it
+  std::string unreadable;      // why a file found in a folder cannot be read (empty: it can); its turn reports it
+  std::filesystem::path name;  // its outputs' name in an output folder: its file name, or its path in the folder given
 };
+
+// A batch's inputs as given: files, or folders of them, with or without their
+// subfolders.
+struct BatchInputOptions {
+  std::vector<std::string> inputs;
+  bool recursive = false;
+};
+// Adds the inputs and --recursive to a command.
+void AddBatchInputOptions(CLI::App& app, BatchInputOptions& options);
 
 // Whether a command line asks for a batch: several inputs, a folder among
 // them, or an output that is an existing folder.
 bool IsBatch(const std::vector<std::string>& inputs, const std::string& output);
 
 // The inputs as given, each folder replaced by its images and videos
-// (MediaFilesIn), each with its kind. Fails with a bad-input error for a
+// (MediaFilesIn; with --recursive those of its subfolders too, but not of the
+// `outputs` folders), each with its kind. Fails with a bad-input error for a
 // missing or unrecognised file given by name, or a folder with nothing to
 // read; a file in a folder that cannot be read (empty, say) is marked so and
 // fails in its turn, as one that cannot be decoded does.
-std::vector<BatchInput> ExpandBatchInputs(const std::vector<std::string>& inputs);
+std::vector<BatchInput> ExpandBatchInputs(const BatchInputOptions& options, const std::vector<std::string>& outputs);
 
 // Fails with a usage error where `folder` (given as `option`) is named like a
 // file (out.jpg, fits.json) and is no existing folder. An empty name passes.
 void RequireFolderName(const std::string& folder, const std::string& option);
 
-// An input's output in `folder`: its name with `extension` (".json"), or,
-// where that is empty, its whole name, made a PNG or an MP4 where its format
+// An input's output in `folder`: its name (in a subfolder where it was in
+// one) with `extension` (".json"), or, where that is empty, its whole name, made a PNG or an MP4 where its format
 // is one we read but do not write.
 std::filesystem::path BatchOutputPath(const std::filesystem::path& folder, const BatchInput& input,
                                       const std::string& extension = "");

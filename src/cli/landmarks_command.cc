@@ -27,7 +27,7 @@ namespace {
 struct LandmarksOptions {
   CommonOptions common;
   CameraOptions camera;
-  std::vector<std::string> inputs;  // as given: files, or folders of them
+  BatchInputOptions batch;  // the inputs as given: files, or folders of them
   std::string input;                // the one being searched
   std::string output;
   std::string csv;
@@ -122,7 +122,7 @@ int RunOnOne(const LandmarksOptions& options, MediaKind kind, FaceTracker& track
 // model loaded once. Every input and output is checked before any work.
 int RunBatch(const LandmarksOptions& options) {
   options.camera.Check();
-  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
+  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.batch, {options.output, options.csv, options.overlay});
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
   const FaceModels models = FaceModels::Load(Assets::Resolve(options.common.assets));
   return RunEachInput(inputs, [&](std::size_t i) {
@@ -133,8 +133,8 @@ int RunBatch(const LandmarksOptions& options) {
 
 int RunLandmarks(LandmarksOptions options) {
   ApplyLogLevel(options.common);
-  if (IsBatch(options.inputs, options.output)) return RunBatch(options);
-  options.input = options.inputs.front();
+  if (IsBatch(options.batch.inputs, options.output)) return RunBatch(options);
+  options.input = options.batch.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
   FaceTracker tracker = MakeTracker(FaceModels::Load(Assets::Resolve(options.common.assets)), options);
@@ -146,7 +146,7 @@ int RunLandmarks(LandmarksOptions options) {
 Command RegisterLandmarksCommand(CLI::App& root) {
   auto options = std::make_shared<LandmarksOptions>();
   CLI::App* app = root.add_subcommand("landmarks", "Find faces, their 68 landmarks and head pose in an image or video");
-  app->add_option("input", options->inputs, "Image or video files, or folders of them")->required();
+  AddBatchInputOptions(*app, options->batch);
   app->add_option("-o,--output", options->output,
                   "JSON output: one document for an image, one line per frame for a video; for several inputs a "
                   "folder, where each gets its name.json (.jsonl for a video)")

@@ -45,7 +45,7 @@ struct RedirectCommandOptions {
   CommonOptions common;
   CameraOptions camera;
   FittingOptions fitting;
-  std::vector<std::string> inputs;  // as given: files, or folders of them
+  BatchInputOptions batch;  // the inputs as given: files, or folders of them
   std::string input;                // the one being redirected
   std::string output;
   std::string look_at;
@@ -511,7 +511,7 @@ void RequireFitsFile(const RedirectCommandOptions& options) {
 }
 
 int RunOnOne(RedirectCommandOptions options) {
-  options.input = options.inputs.front();
+  options.input = options.batch.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireOutputKind(options.output, "-o", kind, options.input);
   WarnOfOptionsForTheOtherKind(options, kind);
@@ -530,7 +530,7 @@ int RunBatch(const RedirectCommandOptions& options) {
   if (!options.fits.empty()) Fail(ExitCode::kUsage, "--fits holds one input's fits: give it with one input");
   options.camera.Check();
   RequireFolderName(options.output, "-o");
-  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
+  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.batch, {options.output, options.debug_dir});
   std::vector<fs::path> outputs;
   for (const BatchInput& input : inputs) outputs.push_back(BatchOutputPath(options.output, input));
   RequireDistinctOutputs(inputs, outputs);
@@ -548,7 +548,7 @@ int RunBatch(const RedirectCommandOptions& options) {
     RedirectCommandOptions one = options;
     one.input = inputs[i].path.string();
     one.output = outputs[i].string();
-    if (!options.debug_dir.empty()) one.debug_dir = (fs::path(options.debug_dir) / inputs[i].path.filename()).string();
+    if (!options.debug_dir.empty()) one.debug_dir = (fs::path(options.debug_dir) / inputs[i].name).string();
     RequireWritableFolder(one.debug_dir, "--debug-dir");
     return inputs[i].kind == MediaKind::kImage ? RunOnImage(one, setup, script) : RunOnVideo(one, setup, script);
   });
@@ -556,7 +556,7 @@ int RunBatch(const RedirectCommandOptions& options) {
 
 int RunRedirect(const RedirectCommandOptions& options) {
   ApplyLogLevel(options.common);
-  return IsBatch(options.inputs, options.output) ? RunBatch(options) : RunOnOne(options);
+  return IsBatch(options.batch.inputs, options.output) ? RunBatch(options) : RunOnOne(options);
 }
 
 }  // namespace
@@ -564,7 +564,7 @@ int RunRedirect(const RedirectCommandOptions& options) {
 Command RegisterRedirectCommand(CLI::App& root) {
   auto options = std::make_shared<RedirectCommandOptions>();
   CLI::App* app = root.add_subcommand("redirect", "Change where the people in an image or video look");
-  app->add_option("input", options->inputs, "Image or video files, or folders of them")->required();
+  AddBatchInputOptions(*app, options->batch);
   app->add_option("-o,--output", options->output,
                   "Output image or video; for several inputs (or a folder) a folder, where each keeps its name")
       ->required();

@@ -34,7 +34,7 @@ struct TrackOptions {
   CommonOptions common;
   CameraOptions camera;
   FittingOptions fitting;
-  std::vector<std::string> inputs;  // as given: files, or folders of them
+  BatchInputOptions batch;  // the inputs as given: files, or folders of them
   std::string input;                // the one being tracked
   std::string output;
   std::string csv;
@@ -183,7 +183,7 @@ void RequireEyePatchImages(const TrackOptions& options, const std::vector<BatchI
 // once. Every input and output is checked before any work.
 int RunBatch(const TrackOptions& options) {
   options.camera.Check();
-  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.inputs);
+  const std::vector<BatchInput> inputs = ExpandBatchInputs(options.batch, {options.output, options.csv, options.overlay});
   RequireEyePatchImages(options, inputs);
   const std::vector<AnalysisOutputs> outputs = PlanAnalysisOutputs(inputs, options.output, options.csv, options.overlay);
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
@@ -195,11 +195,11 @@ int RunBatch(const TrackOptions& options) {
 
 int RunTrack(TrackOptions options) {
   ApplyLogLevel(options.common);
-  if (IsBatch(options.inputs, options.output)) return RunBatch(options);
-  options.input = options.inputs.front();
+  if (IsBatch(options.batch.inputs, options.output)) return RunBatch(options);
+  options.input = options.batch.inputs.front();
   const MediaKind kind = DetectMediaKind(options.input);
   RequireAnalysisOutputs(options.output, options.csv, options.overlay, kind, options.input);
-  RequireEyePatchImages(options, {{options.input, kind, ""}});
+  RequireEyePatchImages(options, {{options.input, kind, "", {}}});
   const FittingSetup setup = FittingSetup::Create(options.common, options.fitting);
   std::optional<AppearanceGaze> appearance;
   return RunOnOne(options, kind, setup, appearance);
@@ -210,7 +210,7 @@ int RunTrack(TrackOptions options) {
 Command RegisterTrackCommand(CLI::App& root) {
   auto options = std::make_shared<TrackOptions>();
   CLI::App* app = root.add_subcommand("track", "Fit the 3D eye-region model to each face of an image or video and estimate gaze");
-  app->add_option("input", options->inputs, "Image or video files, or folders of them")->required();
+  AddBatchInputOptions(*app, options->batch);
   app->add_option("-o,--output", options->output,
                   "Fits: JSON lines (.jsonl, one line per frame) or one JSON document (.json, images); for several "
                   "inputs a folder, where each gets its name.json (.jsonl for a video)")

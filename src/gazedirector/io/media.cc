@@ -138,14 +138,21 @@ MediaKind DetectMediaKind(const fs::path& path) {
   Fail(ExitCode::kBadInput, "{}: not a recognised image or video file", path.string());
 }
 
-std::vector<fs::path> MediaFilesIn(const fs::path& folder) {
+std::vector<fs::path> MediaFilesIn(const fs::path& folder, bool recursive, const std::vector<fs::path>& skipped) {
+  const auto hidden = [](const fs::path& path) { return path.filename().string().starts_with('.'); };
+  const auto is_skipped = [&](const fs::path& path) {
+    std::error_code ec;
+    return std::any_of(skipped.begin(), skipped.end(), [&](const fs::path& other) { return fs::equivalent(path, other, ec); });
+  };
   std::vector<fs::path> files;
   std::error_code ec;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+  for (fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec)) {
     const fs::path& path = it->path();
-    const bool hidden = path.filename().string().starts_with('.');
     std::error_code kind_ec;
-    if (!hidden && it->is_regular_file(kind_ec) && (HasImageExtension(path) || HasVideoExtension(path))) {
+    if (it->is_directory(kind_ec)) {
+      if (!recursive || hidden(path) || is_skipped(path)) it.disable_recursion_pending();
+    } else if (!hidden(path) && it->is_regular_file(kind_ec) && (HasImageExtension(path) || HasVideoExtension(path))) {
       files.push_back(path);
     }
   }

@@ -72,6 +72,21 @@ TEST(MediaTest, ListsAFoldersImagesAndVideosByName) {
   EXPECT_FALSE(HasImageExtension("clip.mp4"));
 }
 
+// Recursively, a folder's subfolders are listed too, by path, but not hidden
+// ones or those skipped (a batch's outputs inside it).
+TEST(MediaTest, ListsSubfoldersRecursivelyExceptHiddenAndSkippedOnes) {
+  const fs::path dir = ScratchDir("media_folder_recursive");
+  for (const char* folder : {"2024/trip", ".thumbnails", "out", "empty"}) fs::create_directories(dir / folder);
+  for (const char* name : {"b.jpg", "2024/a.png", "2024/notes.txt", "2024/trip/c.mp4", ".thumbnails/t.jpg", "out/b.jpg"}) {
+    std::ofstream(dir / name) << "x";
+  }
+  const std::vector<fs::path> all = {dir / "2024/a.png", dir / "2024/trip/c.mp4", dir / "b.jpg", dir / "out/b.jpg"};
+  EXPECT_EQ(MediaFilesIn(dir, true), all);
+  const std::vector<fs::path> without_out = {dir / "2024/a.png", dir / "2024/trip/c.mp4", dir / "b.jpg"};
+  EXPECT_EQ(MediaFilesIn(dir, true, {dir / "out", dir / "missing"}), without_out);
+  EXPECT_EQ(MediaFilesIn(dir), std::vector<fs::path>{dir / "b.jpg"});
+}
+
 // The header's size is the decoded image's, read without decoding; a file cut
 // short is told from a whole one.
 TEST(MediaTest, ProbesJpegAndPngHeadersWithoutDecoding) {
