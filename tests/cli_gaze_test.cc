@@ -312,7 +312,9 @@ TEST(CliGazeTest, TrainAppearanceWritesAModelFromLabelledCrops) {
   }
   EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "gaze.cbor") + " -o " + Quote(dir / "none.json"), &output), 4)
       << output;
-  EXPECT_EQ(RunCli("train-appearance " + Quote(dir) + " -o " + Quote(dir / "none.json"), &output), 4) << output;
+  fs::create_directories(dir / "nothing");
+  std::ofstream(dir / "nothing" / "notes.txt") << "no crops here";
+  EXPECT_EQ(RunCli("train-appearance " + Quote(dir / "nothing") + " -o " + Quote(dir / "none.json"), &output), 4) << output;
   EXPECT_NE(output.find("no files named like"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(dir / "none.json"));
   EXPECT_TRUE(NoPartialFiles(dir));

@@ -28,7 +28,7 @@ CLI::App* AddLandmarkEval(CLI::App& eval, EvalOptions& options) {
 
 // What both Columbia evaluations take: the crops, which subjects, the fitter's options.
 void AddColumbiaOptions(CLI::App& command, EvalOptions& options) {
-  command.add_option("dir", options.columbia_dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
+  command.add_option("dir", options.columbia_dir, "Folder of crops, its subfolders included (default: ../shared/data/columbia-eyes)");
   command.add_flag("--json", options.json, "Print one JSON object");
   command.add_option("--subjects", options.subjects, "Only these subjects (e.g. 0001 0002)");
   command.add_option("--exclude-subjects", options.excluded_subjects,

@@ -47,7 +47,7 @@ Command RegisterTrainCommand(CLI::App& root) {
   CLI::App* app = root.add_subcommand(
       "train-appearance",
       "Train the appearance gaze prior of eye-patch fits on labelled Columbia crops (gaze pitch and yaw, and the head's yaw, from every head pose)");
-  app->add_option("dir", options->dir, "Folder of crops (default: ../shared/data/columbia-eyes)");
+  app->add_option("dir", options->dir, "Folder of crops, its subfolders included (default: ../shared/data/columbia-eyes)");
   app->add_option("-o,--output", options->output, "Write the model here (CBOR)")->required();
   app->add_option("--ridge", options->ridge, "Ridge penalty of the kernel regressions (added to the kernel's diagonal)")
       ->capture_default_str();

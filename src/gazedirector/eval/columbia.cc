@@ -81,24 +81,32 @@ bool Readable(const fs::path& path) {
 std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path>* skipped) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) Fail(ExitCode::kBadInput, "{}: not a folder of Columbia crops", dir.string());
-  std::vector<ColumbiaCrop> crops;
-  std::vector<fs::path> others, unreadable;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+  std::vector<fs::path> files;
+  for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec)) {
     std::error_code file_ec;
-    if (!entry.is_regular_file(file_ec)) continue;
+    const bool hidden = it->path().filename().string().starts_with('.');
+    if (it->is_directory(file_ec) && hidden) it.disable_recursion_pending();
+    if (!hidden && it->is_regular_file(file_ec)) files.push_back(it->path());
+  }
+  if (ec) Fail(ExitCode::kBadInput, "{}: cannot list the folder: {}", dir.string(), ec.message());
+  std::sort(files.begin(), files.end());
+
+  std::vector<ColumbiaCrop> crops;
+  std::vector<fs::path> others, unreadable, repeated;
+  std::set<fs::path> names;
+  for (const fs::path& path : files) {
     ColumbiaCrop crop;
-    if (!ParseColumbiaName(entry.path(), crop)) {
-      others.push_back(entry.path());
-    } else if (!Readable(entry.path())) {
-      unreadable.push_back(entry.path());
+    if (!ParseColumbiaName(path, crop)) {
+      others.push_back(path);
+    } else if (!names.insert(path.filename()).second) {
+      repeated.push_back(path);
+    } else if (!Readable(path)) {
+      unreadable.push_back(path);
     } else {
       crops.push_back(crop);
     }
   }
-  if (ec) Fail(ExitCode::kBadInput, "{}: cannot list the folder: {}", dir.string(), ec.message());
-  std::sort(crops.begin(), crops.end(), [](const ColumbiaCrop& a, const ColumbiaCrop& b) { return a.path < b.path; });
-  std::sort(others.begin(), others.end());
-  std::sort(unreadable.begin(), unreadable.end());
   if (crops.empty() && unreadable.empty()) {
     Fail(ExitCode::kBadInput, "{}: no files named like 0001_2m_0P_0V_0H_L.jpg", dir.string());
   }
@@ -114,8 +122,13 @@ std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path
     spdlog::warn("{}: left out {} crop(s) that cannot be read as images (first: {})", dir.string(), unreadable.size(),
                  unreadable.front().filename().string());
   }
+  if (!repeated.empty()) {
+    spdlog::warn("{}: left out {} crop(s) whose name another folder holds too (first: {})", dir.string(),
+                 repeated.size(), repeated.front().string());
+  }
   if (skipped != nullptr) {
     others.insert(others.end(), unreadable.begin(), unreadable.end());
+    others.insert(others.end(), repeated.begin(), repeated.end());
     *skipped = std::move(others);
   }
   return crops;

@@ -46,10 +46,10 @@ struct ColumbiaCrop {
 bool ParseColumbiaName(const std::filesystem::path& path, ColumbiaCrop& crop);
 // `dir`, or ../shared/data/columbia-eyes when it is empty.
 std::filesystem::path ColumbiaDirOrDefault(const std::string& dir);
-// Every crop in `dir`, sorted by name. Other files, and crops
-// that cannot be decoded, are skipped with a warning (and listed in `skipped`
-// when given), so that one bad file does not stop a long run; folders are not
-// looked into.
+// Every crop in `dir` and its subfolders (not hidden ones: a subject per
+// folder, say), sorted by path. Other files, crops that cannot be decoded and
+// a name met a second time are skipped with a warning (and listed in
+// `skipped` when given), so that one bad file does not stop a long run.
 std::vector<ColumbiaCrop> ListColumbia(const std::filesystem::path& dir,
                                        std::vector<std::filesystem::path>* skipped = nullptr);
 

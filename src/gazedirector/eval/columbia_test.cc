@@ -50,17 +50,24 @@ TEST(ColumbiaTest, ListingSkipsOtherFilesAndSaysWhich) {
   std::filesystem::copy_file(source / "0005_2m_0P_0V_0H_R.jpg", dir / "photo.jpg");
   std::filesystem::copy_file(source / "0005_2m_0P_0V_0H_R.jpg", dir / "0005_2m_0P_0V_0H_R.JPG");
   std::filesystem::create_directory(dir / "0005_2m_0P_0V_0H_R.jpg");  // a folder named like a crop
-  std::filesystem::create_directory(dir / "more");
   std::ofstream(dir / "0005_2m_0P_10V_0H_L.jpg") << "not a picture";
+  // Subfolders are looked into (a subject per folder), but not hidden ones, and a name met twice counts once.
+  for (const char* folder : {"0006", "more", ".thumbnails"}) std::filesystem::create_directory(dir / folder);
+  std::filesystem::copy_file(source / "0006_2m_0P_0V_0H_L.jpg", dir / "0006" / "0006_2m_0P_0V_0H_L.jpg");
+  std::filesystem::copy_file(source / "0005_2m_0P_0V_0H_L.jpg", dir / "more" / "0005_2m_0P_0V_0H_L.jpg");
+  std::filesystem::copy_file(source / "0006_2m_0P_0V_0H_R.jpg", dir / ".thumbnails" / "0006_2m_0P_0V_0H_R.jpg");
   std::vector<std::filesystem::path> skipped;
   const std::vector<ColumbiaCrop> crops = ListColumbia(dir, &skipped);
-  ASSERT_EQ(crops.size(), 2u);
-  EXPECT_EQ(crops[0].path.filename(), "0005_2m_0P_0V_0H_L.jpg");
+  ASSERT_EQ(crops.size(), 3u);
+  EXPECT_EQ(crops[0].path, dir / "0005_2m_0P_0V_0H_L.jpg");
   EXPECT_EQ(crops[1].path.filename(), "0005_2m_15P_10V_5H_R.jpg");
-  ASSERT_EQ(skipped.size(), 3u);
+  EXPECT_EQ(crops[2].path, dir / "0006" / "0006_2m_0P_0V_0H_L.jpg");
+  EXPECT_EQ(crops[2].subject, "0006");
+  ASSERT_EQ(skipped.size(), 4u);
   EXPECT_EQ(skipped[0].filename(), "0005_2m_0P_0V_0H_R.JPG");
   EXPECT_EQ(skipped[1].filename(), "photo.jpg");
   EXPECT_EQ(skipped[2].filename(), "0005_2m_0P_10V_0H_L.jpg");
+  EXPECT_EQ(skipped[3], dir / "more" / "0005_2m_0P_0V_0H_L.jpg");
   // A folder of nothing but such crops says so.
   const std::filesystem::path broken = testing::ScratchDir("columbia_listing_broken");
   std::ofstream(broken / "0005_2m_0P_10V_0H_L.jpg") << "not a picture";
