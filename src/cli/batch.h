@@ -48,8 +48,8 @@ std::vector<BatchInput> ExpandBatchInputs(const BatchInputOptions& options, cons
 void RequireFolderName(const std::string& folder, const std::string& option);
 
 // An input's output in `folder`: its name (in a subfolder where it was in
-// one) with `extension` (".json"), or, where that is empty, its whole name, made a PNG or an MP4 where its format
-// is one we read but do not write.
+// one) with `extension` (".json"), or, where that is empty, its whole name,
+// made a PNG or an MP4 where its format is one we read but do not write.
 std::filesystem::path BatchOutputPath(const std::filesystem::path& folder, const BatchInput& input,
                                       const std::string& extension = "");
 

@@ -27,7 +27,7 @@ namespace {
 struct LandmarksOptions {
   CommonOptions common;
   CameraOptions camera;
-  BatchInputOptions batch;  // the inputs as given: files, or folders of them
+  BatchInputOptions batch;          // the inputs as given: files, or folders of them
   std::string input;                // the one being searched
   std::string output;
   std::string csv;

@@ -45,7 +45,7 @@ struct RedirectCommandOptions {
   CommonOptions common;
   CameraOptions camera;
   FittingOptions fitting;
-  BatchInputOptions batch;  // the inputs as given: files, or folders of them
+  BatchInputOptions batch;          // the inputs as given: files, or folders of them
   std::string input;                // the one being redirected
   std::string output;
   std::string look_at;

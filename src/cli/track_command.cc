@@ -34,7 +34,7 @@ struct TrackOptions {
   CommonOptions common;
   CameraOptions camera;
   FittingOptions fitting;
-  BatchInputOptions batch;  // the inputs as given: files, or folders of them
+  BatchInputOptions batch;          // the inputs as given: files, or folders of them
   std::string input;                // the one being tracked
   std::string output;
   std::string csv;

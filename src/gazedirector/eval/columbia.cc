@@ -81,21 +81,10 @@ bool Readable(const fs::path& path) {
 std::vector<ColumbiaCrop> ListColumbia(const fs::path& dir, std::vector<fs::path>* skipped) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) Fail(ExitCode::kBadInput, "{}: not a folder of Columbia crops", dir.string());
-  std::vector<fs::path> files;
-  for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
-       !ec && it != end; it.increment(ec)) {
-    std::error_code file_ec;
-    const bool hidden = it->path().filename().string().starts_with('.');
-    if (it->is_directory(file_ec) && hidden) it.disable_recursion_pending();
-    if (!hidden && it->is_regular_file(file_ec)) files.push_back(it->path());
-  }
-  if (ec) Fail(ExitCode::kBadInput, "{}: cannot list the folder: {}", dir.string(), ec.message());
-  std::sort(files.begin(), files.end());
-
   std::vector<ColumbiaCrop> crops;
   std::vector<fs::path> others, unreadable, repeated;
   std::set<fs::path> names;
-  for (const fs::path& path : files) {
+  for (const fs::path& path : FilesIn(dir, /*recursive=*/true)) {
     ColumbiaCrop crop;
     if (!ParseColumbiaName(path, crop)) {
       others.push_back(path);

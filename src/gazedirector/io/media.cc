@@ -138,7 +138,7 @@ MediaKind DetectMediaKind(const fs::path& path) {
   Fail(ExitCode::kBadInput, "{}: not a recognised image or video file", path.string());
 }
 
-std::vector<fs::path> MediaFilesIn(const fs::path& folder, bool recursive, const std::vector<fs::path>& skipped) {
+std::vector<fs::path> FilesIn(const fs::path& folder, bool recursive, const std::vector<fs::path>& skipped) {
   const auto hidden = [](const fs::path& path) { return path.filename().string().starts_with('.'); };
   const auto is_skipped = [&](const fs::path& path) {
     std::error_code ec;
@@ -152,12 +152,18 @@ std::vector<fs::path> MediaFilesIn(const fs::path& folder, bool recursive, const
     std::error_code kind_ec;
     if (it->is_directory(kind_ec)) {
       if (!recursive || hidden(path) || is_skipped(path)) it.disable_recursion_pending();
-    } else if (!hidden(path) && it->is_regular_file(kind_ec) && (HasImageExtension(path) || HasVideoExtension(path))) {
+    } else if (!hidden(path) && it->is_regular_file(kind_ec)) {
       files.push_back(path);
     }
   }
   if (ec) Fail(ExitCode::kBadInput, "{}: cannot list the folder ({})", folder.string(), ec.message());
   std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<fs::path> MediaFilesIn(const fs::path& folder, bool recursive, const std::vector<fs::path>& skipped) {
+  std::vector<fs::path> files = FilesIn(folder, recursive, skipped);
+  std::erase_if(files, [](const fs::path& path) { return !HasImageExtension(path) && !HasVideoExtension(path); });
   return files;
 }
 

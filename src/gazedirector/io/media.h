@@ -24,10 +24,13 @@ const std::vector<std::string>& VideoExtensions();
 // True when the path's extension names one of them.
 bool HasVideoExtension(const std::filesystem::path& path);
 
-// The images and videos in `folder` (by extension; not hidden files),
-// sorted by path; with `recursive` those of its subfolders too, but not of
-// hidden ones or of the `skipped` folders (a batch's outputs inside it).
-// Fails with ExitCode::kBadInput when the folder cannot be read.
+// The files in `folder` (not hidden ones), sorted by path; with `recursive`
+// those of its subfolders too, but not of hidden ones or of the `skipped`
+// folders (a batch's outputs inside it). Fails with ExitCode::kBadInput when
+// the folder cannot be read.
+std::vector<std::filesystem::path> FilesIn(const std::filesystem::path& folder, bool recursive = false,
+                                           const std::vector<std::filesystem::path>& skipped = {});
+// The images and videos among them, by extension.
 std::vector<std::filesystem::path> MediaFilesIn(const std::filesystem::path& folder, bool recursive = false,
                                                 const std::vector<std::filesystem::path>& skipped = {});
 
