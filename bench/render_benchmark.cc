@@ -72,5 +72,19 @@ void BM_Render(benchmark::State& state) {
 }
 BENCHMARK(BM_Render);
 
+// A new texture coefficient τ (each fresh fit's line search tries several):
+// both skin textures composed and their mips built.
+void BM_ComposeSkinTexture(benchmark::State& state) {
+  const SkinTextureModel& skin = TheScene().model->skin_texture();
+  RgbaTexture ahead, down;
+  std::vector<double> tau(skin.num_modes(), 0.3);  // a fitted τ moves every mode
+  int i = 0;
+  for (auto _ : state) {
+    tau[0] = (i++ % 2) ? 0.5 : -0.5;
+    skin.Compose(tau.data(), ahead, down);
+  }
+}
+BENCHMARK(BM_ComposeSkinTexture);
+
 }  // namespace
 }  // namespace gazedirector
