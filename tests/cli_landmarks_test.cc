@@ -245,9 +245,10 @@ TEST(CliLandmarksTest, RecursiveFoldersKeepTheirSubfoldersInTheOutputs) {
       << output;
   EXPECT_FALSE(fs::exists(dir / "flat" / "2024"));
 
-  for (int run = 0; run < 2; ++run) {  // the second run finds the first one's outputs inside the album
+  // The second run finds the first one's outputs inside the album, its overlays photos too.
+  for (int run = 0; run < 2; ++run) {
     ASSERT_EQ(RunCli("landmarks -r " + Quote(dir / "album") + "/ -o " + Quote(dir / "album" / "fits") + " --csv " +
-                         Quote(dir / "album" / "csv"),
+                         Quote(dir / "album" / "csv") + " --overlay " + Quote(dir / "album" / "overlay"),
                      &output),
               0)
         << output;
@@ -258,10 +259,11 @@ TEST(CliLandmarksTest, RecursiveFoldersKeepTheirSubfoldersInTheOutputs) {
   EXPECT_EQ(nested["input"], (dir / "album" / "2024" / "s12.jpg").string());
   EXPECT_EQ(nested["faces"], nlohmann::json::parse(ReadText(dir / "flat" / "s12.json"))["faces"]);
   EXPECT_EQ(ReadText(dir / "album" / "csv" / "2024" / "s12.csv"), ReadText(dir / "album" / "csv" / "s12.csv"));
+  EXPECT_TRUE(fs::exists(dir / "album" / "overlay" / "2024" / "s12.jpg"));
 
   fs::remove(dir / "album" / "s12.jpg");
   EXPECT_EQ(RunCli("landmarks " + Quote(dir / "album") + " -o " + Quote(dir / "never"), &output), 4) << output;
-  EXPECT_NE(output.find("the folder holds no images or videos, but its subfolders hold 1 (--recursive reads them)"),
+  EXPECT_NE(output.find("the folder holds no images or videos, but its subfolders hold 3 (--recursive reads them)"),
             std::string::npos)
       << output;
   EXPECT_FALSE(fs::exists(dir / "never"));
