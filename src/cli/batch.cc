@@ -51,8 +51,17 @@ std::vector<BatchInput> ExpandBatchInputs(const BatchInputOptions& options, cons
       expanded.push_back({given, DetectMediaKind(given), "", fs::path(given).filename()});
       continue;
     }
-    const std::vector<fs::path> listed = MediaFilesIn(given, options.recursive, skipped);
-    const std::size_t below = options.recursive ? 0 : MediaFilesIn(given, true, skipped).size() - listed.size();
+    // One listing of the whole tree: without --recursive, what lies below is only counted.
+    std::vector<fs::path> listed;
+    std::size_t below = 0;
+    for (const fs::path& path : MediaFilesIn(given, /*recursive=*/true, skipped)) {
+      const bool nested = path.lexically_relative(given).has_parent_path();
+      if (nested && !options.recursive) {
+        ++below;
+      } else {
+        listed.push_back(path);
+      }
+    }
     if (listed.empty() && below > 0) {
       Fail(ExitCode::kBadInput, "{}: the folder holds no images or videos, but its subfolders hold {} (--recursive reads them)",
            given, below);
