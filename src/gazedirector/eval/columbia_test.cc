@@ -38,9 +38,9 @@ TEST(ColumbiaTest, NamesGiveLabelsAndTheirPhoto) {
   EXPECT_FALSE(ParseColumbiaName("d30.jpg", not_one));
 }
 
-// A folder with other files beside the crops: the crops are listed in name
+// A folder with other files beside the crops: the crops are listed in path
 // order, the other files and a crop that cannot be decoded reported as
-// skipped (one bad file must not stop a long evaluation), a subfolder left alone.
+// skipped (one bad file must not stop a long evaluation), subfolders read.
 TEST(ColumbiaTest, ListingSkipsOtherFilesAndSaysWhich) {
   const std::filesystem::path dir = testing::ScratchDir("columbia_listing");
   const std::filesystem::path source = testing::DataPath("columbia-eyes");
