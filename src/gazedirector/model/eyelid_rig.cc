@@ -56,8 +56,7 @@ void EyelidRig::Apply(double lid_pitch_deg, double closure_deg, const Eigen::Vec
                       Eigen::Matrix3Xd& vertices) const {
   using topology::kLoopColumns;
   using topology::kLoops;
-  const double gain = lid_pitch_deg > 0 ? settings_.up_gain : settings_.down_gain;
-  const double lid_angle = DegToRad(lid_pitch_deg * gain);
+  const double lid_angle = DegToRad(settings_.UpperLidTurn(lid_pitch_deg));
   const double closure = DegToRad(closure_deg);
   const Eigen::Vector3d inner = vertices.col(topology::kRigInnerCorner);
 

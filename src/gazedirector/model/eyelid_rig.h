@@ -15,6 +15,10 @@ struct EyelidRigSettings {
   std::array<double, 6> loop_strength = {1.0, 1.0, 1.0, 0.8, 0.4, 0.2};
   // Least skin thickness over the eyeball per loop (mm), kept by shrink-wrapping.
   std::array<double, 6> clearance_mm = {0.3, 0.6, 1.0, 1.5, 2.0, 2.5};
+
+  // How far the upper lid turns (degrees, up positive) at `lid_pitch_deg`, and back.
+  double UpperLidTurn(double lid_pitch_deg) const { return lid_pitch_deg * (lid_pitch_deg > 0 ? up_gain : down_gain); }
+  double LidPitchForUpperLidTurn(double turn_deg) const { return turn_deg / (turn_deg > 0 ? up_gain : down_gain); }
 };
 
 // The procedural lid rig: the edge loops around the eye rotate about axes

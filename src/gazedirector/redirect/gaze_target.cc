@@ -7,6 +7,7 @@
 
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/model/eyelid_rig.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -110,6 +111,16 @@ GazeTarget GazeTarget::FromJson(const nlohmann::json& json) {
   Fail(ExitCode::kBadInput, "a gaze target needs one of camera, look_at, gaze, offset");
 }
 
+double EyelidFollow::LidPitch(double lid_pitch_deg, double pitch_change_deg) const {
+  if (pitch_change_deg <= 0) return lid_pitch_deg + down * pitch_change_deg;
+  const double within = keep_pace_beyond ? std::min(pitch_change_deg, up_measured_deg) : pitch_change_deg;
+  const double lid = lid_pitch_deg + up * within;
+  const double beyond = pitch_change_deg - within;
+  if (beyond <= 0) return lid;
+  const EyelidRigSettings rig;
+  return rig.LidPitchForUpperLidTurn(rig.UpperLidTurn(lid) + beyond);
+}
+
 Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollow follow) {
   Parameters out = phi;
   const Eigen::Matrix3d rotation = phi.rotation();
@@ -140,7 +151,7 @@ Parameters Retarget(const Parameters& phi, const GazeTarget& target, EyelidFollo
   out.gaze_yaw() = std::clamp(out.gaze_yaw(), -kMaxRedirectYawDeg, kMaxRedirectYawDeg);
   out.vergence() = std::clamp(out.vergence(), -2.0, kMaxVergence);
   const double change = out.gaze_pitch() - phi.gaze_pitch();
-  out.eyelid_pitch() = phi.eyelid_pitch() + (change < 0 ? follow.down : follow.up) * change;
+  out.eyelid_pitch() = follow.LidPitch(phi.eyelid_pitch(), change);
   return out;
 }
 

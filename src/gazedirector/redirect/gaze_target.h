@@ -43,9 +43,17 @@ struct GazeTarget {
 // (eval redirect-columbia, crops registered on the skin around the eye):
 // following 1.0 down and 0.4 up gives (c) 11.38 against 11.59 for 0.3 both
 // ways, better on odd and even subjects alike; 1.25 down or 0 or 1 up do worse.
+// Columbia's changes reach 10 deg up; beyond that the upper lid keeps pace
+// with the iris, as real upper lids follow vertical gaze about one to one,
+// so that a large turn up does not slide the iris under the lid.
 struct EyelidFollow {
   double down = 1.0;
   double up = 0.4;
+  double up_measured_deg = 10;  // `up` holds for this much of an upward change
+  bool keep_pace_beyond = true;
+
+  // The lid pitch after a change of gaze pitch (degrees, up positive).
+  double LidPitch(double lid_pitch_deg, double pitch_change_deg) const;
 };
 
 // How far re-posed eyes may turn from looking ahead in the head, degrees

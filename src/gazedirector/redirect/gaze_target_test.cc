@@ -8,6 +8,7 @@
 #include "gazedirector/fit/face_fit.h"
 #include "gazedirector/geometry/rotation.h"
 #include "gazedirector/model/eye_region_model.h"
+#include "gazedirector/model/eyelid_rig.h"
 #include "gazedirector/util/error.h"
 
 namespace gazedirector {
@@ -67,6 +68,32 @@ TEST(GazeTargetTest, OffsetsAddAndTheEyelidsFollow) {
   EXPECT_EQ(moved.shape(), fitted.shape());
   // Beyond the eye's range the gaze stops at its limit.
   EXPECT_LE(Retarget(fitted, GazeTarget::Offset(0, 90)).gaze_yaw(), 50);
+}
+
+// Columbia measures upward changes of up to 10 deg, where the lids follow 0.4
+// of them; beyond that the upper lid turns with the iris, one to one, whether
+// it starts raised or lowered (the rig turns it by a different share of the
+// lid pitch either way).
+TEST(GazeTargetTest, BeyondColumbiasRangeTheUpperLidKeepsPaceWithTheIris) {
+  const EyelidRigSettings rig;
+  const EyelidFollow follow;
+  Parameters fitted = Face();
+  for (double start : {-20.0, 0.0, 5.0}) {
+    fitted.gaze_pitch() = start, fitted.eyelid_pitch() = start;
+    const double at_ten = Retarget(fitted, GazeTarget::Offset(10, 0)).eyelid_pitch();
+    EXPECT_NEAR(at_ten, start + follow.up * 10, 1e-9) << "from " << start;
+    for (double more : {5.0, 15.0}) {
+      const double lid = Retarget(fitted, GazeTarget::Offset(10 + more, 0)).eyelid_pitch();
+      EXPECT_NEAR(rig.UpperLidTurn(lid) - rig.UpperLidTurn(at_ten), more, 1e-9) << "from " << start << ", " << more << " more";
+    }
+  }
+  // Without it the lids follow 0.4 of the whole change, as Columbia's tuning alone says.
+  EyelidFollow measured_only;
+  measured_only.keep_pace_beyond = false;
+  fitted.gaze_pitch() = 0, fitted.eyelid_pitch() = 0;
+  EXPECT_NEAR(Retarget(fitted, GazeTarget::Offset(20, 0), measured_only).eyelid_pitch(), 8, 1e-9);
+  EXPECT_NEAR(rig.LidPitchForUpperLidTurn(rig.UpperLidTurn(-7)), -7, 1e-12);
+  EXPECT_NEAR(rig.LidPitchForUpperLidTurn(rig.UpperLidTurn(9)), 9, 1e-12);
 }
 
 TEST(GazeTargetTest, DirectionsInTheCameraFrameAreSeenByTheCamera) {
