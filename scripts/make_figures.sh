@@ -71,6 +71,9 @@ cp "$tmp/script.json" docs/gaze_script_example.json
 $gd redirect $data/video/d3.mp4 -o "$tmp/d3_camera.mp4" --look-at camera --side-by-side -q
 $gd redirect $data/video/d3.mp4 --fits "$tmp/d3_camera.mp4.fits.jsonl" -o "$tmp/d3_script.mp4" --script "$tmp/script.json" --side-by-side -q
 ffmpeg -v error -y -i "$tmp/d3_camera.mp4" -t 3 -vf "crop=1024:220:0:130,fps=8,scale=480:-2:flags=lanczos,split[a][b];[a]palettegen[p];[b][p]paletteuse" "$out/d3_eye_contact.gif"
+# Her looks down at frames 70, 90 and 125 turned to the camera: the lids lift with the eyes.
+ffmpeg -v error -y -i "$tmp/d3_camera.mp4" -vf "select=eq(n\\,70)+eq(n\\,90)+eq(n\\,125),crop=1024:120:0:230,tile=1x3" \
+  -frames:v 1 -q:v 3 "$out/d3_eye_contact_looking_down.jpg"
 ffmpeg -v error -y -ss 4.5 -i "$tmp/d3_script.mp4" -t 5 -vf "crop=1024:220:0:130,fps=8,scale=480:-2:flags=lanczos,split[a][b];[a]palettegen[p];[b][p]paletteuse" "$out/d3_reading.gif"
 
 # The known failure: d10.mp4 turned to the camera, frames 200, 300, 400 (original left).
