@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -71,6 +72,25 @@ void AddCameraOptions(CLI::App& command, CameraOptions& options) {
   command.add_option("--fy", options.fy, "Focal length in pixels along y (default: fx)")->group(group);
   command.add_option("--cx", options.cx, "Principal point x in pixels")->group(group);
   command.add_option("--cy", options.cy, "Principal point y in pixels")->group(group);
+}
+
+void AddHeadPoseOption(CLI::App& command, HeadPoseMethod& method) {
+  // The enum's values by name; CLI11 then reads the number into the enum.
+  const CLI::Validator by_name(
+      [](std::string& value) -> std::string {
+        const std::string name = CLI::detail::to_lower(value);
+        if (name == "pnp") value = std::to_string(static_cast<int>(HeadPoseMethod::kPerspectiveNPoint));
+        else if (name == "kabsch") value = std::to_string(static_cast<int>(HeadPoseMethod::kKabsch));
+        else return "expected pnp or kabsch, got '" + value + "'";
+        return "";
+      },
+      "");
+  command
+      .add_option("--head-pose", method,
+                  "How the mean 3D face is aligned to the landmarks: pnp (perspective-n-point, in pixels) or kabsch "
+                  "(the paper's Kabsch alignment, the landmarks lifted onto their lines of sight)")
+      ->transform(by_name)
+      ->option_text("TEXT:{pnp,kabsch}=pnp");
 }
 
 void RequireExtension(const std::filesystem::path& path, const std::string& option, const std::vector<std::string>& allowed) {

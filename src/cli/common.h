@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "gazedirector/face/head_pose.h"
 #include "gazedirector/face/landmark_detector.h"
 #include "gazedirector/face/mean_face.h"
 #include "gazedirector/geometry/camera.h"
@@ -62,6 +63,9 @@ struct CameraOptions {
   void Check() const { Resolve(1, 1); }
 };
 void AddCameraOptions(CLI::App& command, CameraOptions& options);
+
+// --head-pose pnp|kabsch: how the mean face is aligned to the landmarks.
+void AddHeadPoseOption(CLI::App& command, HeadPoseMethod& method);
 
 // A subcommand: its parser and what runs when it was chosen; run returns the
 // process exit code.

@@ -8,6 +8,7 @@ namespace gazedirector::cli {
 
 void AddFittingOptions(CLI::App& command, FittingOptions& options) {
   command.add_flag("--largest", options.largest, "Only the largest face");
+  AddHeadPoseOption(command, options.head_pose);
   command.add_option("--fit", options.fit, "Fitter option name=value (repeatable); `gazedirector eval columbia --help` lists them");
   command.add_option("--warm-fit", options.warm_fit, "The same for video frames fitted from the previous frame's fit");
 }
@@ -22,6 +23,7 @@ FittingSetup FittingSetup::Create(const CommonOptions& common, const FittingOpti
     SetFitOption(setup.tracker_options.warm, assignment);
   }
   setup.largest = options.largest;
+  setup.tracker_options.head_pose = options.head_pose;
   setup.model_loading_ = std::async(std::launch::async, [assets] { return EyeRegionModel::Load(assets); }).share();
   setup.faces = FaceModels::Load(assets);
   return setup;
@@ -32,7 +34,7 @@ GazeTracker FittingSetup::MakeTracker() const {
 }
 
 std::vector<FaceFit> FittingSetup::FitImage(const cv::Mat& image, const Camera& camera) const {
-  FaceTracker tracker(faces.landmarks, faces.mean_face, GazeTracker::FaceOptions(largest));
+  FaceTracker tracker(faces.landmarks, faces.mean_face, GazeTracker::FaceOptions(largest, tracker_options.head_pose));
   const std::vector<Face> found = tracker.DetectFaces(image, camera);
   return MakeTracker().FitImageFaces(image, camera, found);
 }

@@ -19,6 +19,7 @@ namespace gazedirector::cli {
 // The options of the commands that fit the model (track, redirect).
 struct FittingOptions {
   bool largest = false;
+  HeadPoseMethod head_pose = HeadPoseMethod::kPerspectiveNPoint;
   std::vector<std::string> fit;  // name=value fitter options
   std::vector<std::string> warm_fit;  // the same for warm-started video frames
 };

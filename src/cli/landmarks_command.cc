@@ -34,6 +34,7 @@ struct LandmarksOptions {
   std::string overlay;
   bool largest = false;
   bool no_smoothing = false;
+  HeadPoseMethod head_pose = HeadPoseMethod::kPerspectiveNPoint;
 };
 
 int RunOnImage(const LandmarksOptions& options, FaceTracker& tracker) {
@@ -110,6 +111,7 @@ FaceTracker MakeTracker(const FaceModels& models, const LandmarksOptions& option
   FaceTrackerOptions tracker_options;
   tracker_options.largest_only = options.largest;
   tracker_options.smooth = !options.no_smoothing;
+  tracker_options.head_pose = options.head_pose;
   return FaceTracker(models.landmarks, models.mean_face, tracker_options);
 }
 
@@ -155,6 +157,7 @@ Command RegisterLandmarksCommand(CLI::App& root) {
   app->add_option("--overlay", options->overlay,
                   "Draw the results over the input (.png/.jpg for images, .mp4 for videos; several inputs: a folder)");
   app->add_flag("--largest", options->largest, "Report only the largest face");
+  AddHeadPoseOption(*app, options->head_pose);
   app->add_flag("--no-smoothing", options->no_smoothing, "Report raw video landmarks, without temporal smoothing");
   AddCameraOptions(*app, options->camera);
   AddCommonOptions(*app, options->common);

@@ -169,7 +169,7 @@ std::vector<Face> FaceTracker::DetectFaces(const cv::Mat& bgr, const Camera& cam
     face.box_roll = detections[i].roll;
     face.confidence = ConfidenceFromScore(detections[i].score);
     face.landmarks = FindLandmarks(gray, face.box, face.box_roll);
-    face.pose = EstimateHeadPose(face.landmarks, mean_face_, camera);
+    face.pose = EstimateHeadPose(face.landmarks, mean_face_, camera, nullptr, options_.head_pose);
     faces.push_back(face);
   }
   return faces;
@@ -298,7 +298,8 @@ void FaceTracker::Smooth(Track& track, double timestamp_s) {
 }
 
 Face FaceTracker::ToFace(Track& track, const Camera& camera, bool use_previous_pose) {
-  track.pose = EstimateHeadPose(track.smoothed, mean_face_, camera, use_previous_pose && track.has_pose ? &track.pose : nullptr);
+  track.pose = EstimateHeadPose(track.smoothed, mean_face_, camera, use_previous_pose && track.has_pose ? &track.pose : nullptr,
+                                options_.head_pose);
   track.has_pose = true;
   Face face;
   face.id = track.id;

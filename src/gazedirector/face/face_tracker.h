@@ -7,6 +7,7 @@
 
 #include "gazedirector/face/face.h"
 #include "gazedirector/face/face_detector.h"
+#include "gazedirector/face/head_pose.h"
 #include "gazedirector/face/landmark_detector.h"
 #include "gazedirector/face/mean_face.h"
 #include "gazedirector/geometry/camera.h"
@@ -22,6 +23,7 @@ struct FaceTrackerOptions {
   bool smooth = true;            // 1-euro smoothing of video landmarks
   double smoothing_min_cutoff_hz = 1.2;
   double smoothing_beta = 6.0;   // cutoff rise per interocular distance per second
+  HeadPoseMethod head_pose = HeadPoseMethod::kPerspectiveNPoint;
 };
 
 // Finds faces, their 68 landmarks and head poses in stills and video frames.

@@ -67,14 +67,15 @@ GazeTracker::GazeTracker(std::shared_ptr<const EyeRegionModel> model, std::share
                          bool largest_only)
     : model_(model),
       options_(options),
-      faces_(std::move(landmarks), mean_face, FaceOptions(largest_only)),
+      faces_(std::move(landmarks), mean_face, FaceOptions(largest_only, options.head_pose)),
       fresh_(model, options.fresh, pool ? pool : (pool = std::make_shared<ThreadPool>())),
       warm_(model, options.warm, pool),
       renderer_(model) {}
 
-FaceTrackerOptions GazeTracker::FaceOptions(bool largest_only) {
+FaceTrackerOptions GazeTracker::FaceOptions(bool largest_only, HeadPoseMethod head_pose) {
   FaceTrackerOptions options;
   options.largest_only = largest_only;
+  options.head_pose = head_pose;
   return options;
 }
 

@@ -21,6 +21,7 @@ namespace gazedirector {
 FitOptions WarmFitOptions();
 
 struct GazeTrackerOptions {
+  HeadPoseMethod head_pose = HeadPoseMethod::kPerspectiveNPoint;  // the faces' head pose, which the fits start from
   FitOptions fresh;                   // for a face seen for the first time (or refitted)
   FitOptions warm = WarmFitOptions();  // for a face followed from the previous frame
   // After this many fits of a face its shape, texture (skin, iris colour,
@@ -71,7 +72,7 @@ class GazeTracker {
   // ProcessImage's fits of faces found by a FaceTracker with FaceOptions.
   std::vector<FaceFit> FitImageFaces(const cv::Mat& image, const Camera& camera, const std::vector<Face>& faces);
   // The options of the tracker's own face tracker.
-  static FaceTrackerOptions FaceOptions(bool largest_only);
+  static FaceTrackerOptions FaceOptions(bool largest_only, HeadPoseMethod head_pose = HeadPoseMethod::kPerspectiveNPoint);
   // TrackFaces, then FitFaces.
   std::vector<FaceFit> ProcessFrame(const cv::Mat& frame, double timestamp_s, const Camera& camera);
   // A video frame's two stages. They touch separate state (the face tracker;
