@@ -1,5 +1,6 @@
 #include "gazedirector/face/head_pose.h"
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -53,6 +54,19 @@ TEST(HeadPoseTest, KabschAndPerspectiveNPointAgreeOnRealFaces) {
     EXPECT_LT(angles[i], 4.0) << i;  // measured: 0.2-2.7 deg
     EXPECT_GE(extra_px[i], -1e-6) << i << ": perspective-n-point minimises the pixels' error";
     EXPECT_LT(extra_px[i], 0.2) << i;  // measured: at most 0.13 px
+  }
+}
+
+// Landmarks heaped on one pixel give the lines of sight no spread to place
+// the face by; either method still returns numbers, not NaNs.
+TEST(HeadPoseTest, HeapedLandmarksGiveAFinitePoseEitherWay) {
+  Landmarks68 heaped;
+  heaped.fill(Eigen::Vector2d(320, 240));
+  const Camera camera = Camera::Default(640, 480);
+  for (HeadPoseMethod method : {HeadPoseMethod::kPerspectiveNPoint, HeadPoseMethod::kKabsch}) {
+    const HeadPose pose = EstimateHeadPose(heaped, testing::SharedMeanFace(), camera, nullptr, method);
+    EXPECT_TRUE(pose.rotation.allFinite() && pose.translation.allFinite()) << static_cast<int>(method);
+    EXPECT_TRUE(std::isfinite(pose.reprojection_error_px)) << static_cast<int>(method);
   }
 }
 
