@@ -667,12 +667,16 @@ const std::map<int, FittedFrame>& TrackedD3Frames() {
 }
 
 // Redirects `frame` to the camera with `options`.
+// A tracked frame redirected from its fit to `target`.
+Redirected RedirectFrame(Redirector& redirector, const FittedFrame& frame, const Parameters& target) {
+  Redirected redirected{frame.image.clone(), {}, {}};
+  redirected.report = redirector.Redirect(redirected.image, frame.camera, frame.fit.phi, target, &redirected.layers);
+  return redirected;
+}
+
 Redirected RedirectToCamera(const FittedFrame& frame, const RedirectOptions& options) {
   Redirector redirector(SharedModel(), options);
-  Redirected redirected{frame.image.clone(), {}, {}};
-  redirected.report = redirector.Redirect(redirected.image, frame.camera, frame.fit.phi,
-                                          Retarget(frame.fit.phi, GazeTarget::Camera()), &redirected.layers);
-  return redirected;
+  return RedirectFrame(redirector, frame, Retarget(frame.fit.phi, GazeTarget::Camera()));
 }
 
 // d3.mp4 frame 100 looks down under lowered lids (tracked, it shows 0.5 of
@@ -746,11 +750,7 @@ TEST(RedirectorTest, OnALargeTurnUpTheUpperLidKeepsPaceWithTheIris) {
 
   const FittedFrame& down = TrackedD3Frames().at(100);
   ASSERT_TRUE(down.fit.good) << down.fit.note;
-  auto to_camera = [&](const Parameters& target) {
-    Redirected redirected{down.image.clone(), {}, {}};
-    redirected.report = redirector.Redirect(redirected.image, down.camera, down.fit.phi, target, &redirected.layers);
-    return VisibleIris(redirected.layers);
-  };
+  auto to_camera = [&](const Parameters& target) { return VisibleIris(RedirectFrame(redirector, down, target).layers); };
   const double slit = to_camera(down.fit.phi);
   const double contact = to_camera(Retarget(down.fit.phi, GazeTarget::Camera())) / slit;
   const double contact_lagging = to_camera(Retarget(down.fit.phi, GazeTarget::Camera(), measured_only)) / slit;
