@@ -99,11 +99,9 @@ HeadPose EstimateHeadPose(const Landmarks68& landmarks, const MeanFace& mean_fac
     pose.rotation.setIdentity();
     pose.translation = Eigen::Vector3d(0, 0, spread_px > 1 ? camera.fx * spread_mm / spread_px : 600.0);
   }
-  const HeadPose start = pose;
-  if (method == HeadPoseMethod::kKabsch) AlignByKabsch(object, image, camera, pose.rotation, pose.translation);
-  // Should the lines of sight leave the alignment no depth (NaNs), perspective-n-point takes over.
-  if (method != HeadPoseMethod::kKabsch || !pose.rotation.allFinite() || !pose.translation.allFinite()) {
-    pose = start;
+  if (method == HeadPoseMethod::kKabsch) {
+    AlignByKabsch(object, image, camera, pose.rotation, pose.translation);
+  } else {
     SolvePerspectiveNPoint(object, image, camera, pose.rotation, pose.translation);
   }
   double squared = 0;
